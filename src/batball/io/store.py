@@ -1,0 +1,168 @@
+"""The results store: one folder per run, keyed by the hash of its inputs, written atomically.
+
+A run of test ``ccor`` with inputs ``I`` lives in ``<root>/ccor-<inputs_hash(I)>/`` and holds
+``summary.json`` (written last, with ``"complete": true``), ``history.csv``, fields and figures.
+Every file is written to a temporary name in the same folder and moved onto its final name with
+``os.replace``, so a reader sees either the old file or the new one, never half a file; an
+interrupted run leaves no ``summary.json`` and is simply run again.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import io
+import json
+import os
+import re
+import secrets
+from collections.abc import Iterator, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: File name of a run's summary; its presence with ``"complete": true`` marks a finished run.
+SUMMARY_NAME = "summary.json"
+
+_HASH_LENGTH = 12
+_TEST_NAME = re.compile(r"^[a-z0-9][a-z0-9_.-]*$")
+
+
+def _to_json(value: Any) -> Any:
+    """JSON encoding of what ``json`` does not know: NumPy scalars and arrays, paths."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, Path):
+        return value.as_posix()
+    raise TypeError(f"not JSON-serialisable: {type(value).__name__}")
+
+
+def canonical_json(inputs: Mapping[str, Any]) -> str:
+    """``inputs`` as canonical JSON: sorted keys, no spaces, shortest float repr, no NaN."""
+    return json.dumps(
+        inputs, sort_keys=True, separators=(",", ":"), ensure_ascii=False, allow_nan=False,
+        default=_to_json,
+    )  # fmt: skip
+
+
+def inputs_hash(inputs: Mapping[str, Any]) -> str:
+    """First 12 hex digits of the SHA-256 of the canonical JSON of ``inputs``.
+
+    Args:
+        inputs: JSON-able mapping (strings, numbers, bools, None, lists, dicts, NumPy values);
+            key order does not matter, any value change does.
+    """
+    digest = hashlib.sha256(canonical_json(inputs).encode("utf-8")).hexdigest()
+    return digest[:_HASH_LENGTH]
+
+
+def run_folder(root: Path, test: str, inputs: Mapping[str, Any]) -> Path:
+    """``root/<test>-<inputs_hash(inputs)>`` (not created here; the writers create folders).
+
+    Raises:
+        ValueError: ``test`` is not a lower-case name such as ``"ccor"`` or ``"barrel"``.
+    """
+    if not _TEST_NAME.match(test):
+        raise ValueError(f"test name {test!r} must match {_TEST_NAME.pattern}")
+    return Path(root) / f"{test}-{inputs_hash(inputs)}"
+
+
+@contextlib.contextmanager
+def atomic_path(path: Path) -> Iterator[Path]:
+    """Yield a temporary path next to ``path``; on success move it onto ``path``, else remove it.
+
+    The temporary name keeps the suffix (``.png``, ``.vtu``), so writers that infer the format
+    from it (matplotlib ``savefig``, meshio) work unchanged. Parent folders are created.
+
+    Example:
+        >>> with atomic_path(folder / "force.png") as tmp:   # doctest: +SKIP
+        ...     figure.savefig(tmp)
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.stem}.{secrets.token_hex(6)}.tmp{path.suffix}")
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def write_text_atomic(path: Path, text: str) -> None:
+    """Write ``text`` (UTF-8) to ``path`` atomically, flushed to disk before the rename."""
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="\n") as stream:
+        stream.write(text)
+        stream.flush()
+        os.fsync(stream.fileno())
+
+
+def write_json_atomic(path: Path, obj: Any) -> None:
+    """Write ``obj`` as indented JSON to ``path`` atomically.
+
+    Raises:
+        ValueError: ``obj`` holds NaN or infinity (invalid JSON; give None instead).
+        TypeError: ``obj`` holds something JSON cannot represent.
+    """
+    text = json.dumps(obj, indent=2, ensure_ascii=False, allow_nan=False, default=_to_json)
+    write_text_atomic(path, text + "\n")
+
+
+def write_csv_atomic(
+    path: Path, columns: Mapping[str, np.ndarray], *, float_format: str = "%.12g"
+) -> None:
+    """Write equal-length 1-D columns as CSV, one header line of column names.
+
+    Args:
+        path: target file.
+        columns: ``{name: values}``, each of shape ``(n_rows,)``; names carry their unit
+            (``"time_ms"``, ``"force_lbf"``) and contain no comma, quote or newline.
+        float_format: printf format of each value.
+
+    Raises:
+        ValueError: no columns, a column that is not 1-D, unequal lengths, or a bad name.
+    """
+    names = list(columns)
+    if not names:
+        raise ValueError("no columns to write")
+    for name in names:
+        if not name or any(c in name for c in ',"\n\r'):
+            raise ValueError(f'column name {name!r} must be non-empty, without , " or newline')
+    arrays = [np.asarray(columns[name]) for name in names]
+    if any(a.ndim != 1 for a in arrays) or len({a.shape[0] for a in arrays}) != 1:
+        shapes = {name: a.shape for name, a in zip(names, arrays, strict=True)}
+        raise ValueError(f"columns must be 1-D of equal length; got shapes {shapes}")
+    buffer = io.StringIO()
+    np.savetxt(buffer, np.column_stack(arrays), fmt=float_format, delimiter=",",
+               header=",".join(names), comments="")  # fmt: skip
+    write_text_atomic(path, buffer.getvalue())
+
+
+def write_summary(folder: Path, summary: Mapping[str, Any]) -> Path:
+    """Write ``folder/summary.json`` with ``"complete": true`` added; call it last in a run.
+
+    Returns:
+        The path written.
+    """
+    path = Path(folder) / SUMMARY_NAME
+    write_json_atomic(path, {**summary, "complete": True})
+    return path
+
+
+def load_cached_summary(folder: Path) -> dict[str, Any] | None:
+    """The run's summary if ``folder/summary.json`` exists, is a JSON object and is complete.
+
+    Returns:
+        The summary dict, or None when the run must be (re)done: no file, unreadable or invalid
+        JSON, or no ``"complete": true``.
+    """
+    path = Path(folder) / SUMMARY_NAME
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return None
+    if not isinstance(summary, dict) or summary.get("complete") is not True:
+        return None
+    return summary

@@ -1,0 +1,297 @@
+"""Ball specifications: size, mass and material, read from TOML with units in strings.
+
+A ball spec file looks like the embedded defaults (``specs/data/type1.toml``)::
+
+    name = "type1"
+    description = "..."            # optional
+    circumference = "12 in"
+    mass = "6.93 oz"
+
+    [material]
+    law = "mat006"                 # a key of batball.materials.MATERIAL_LAWS
+    bulk_modulus = "800000 psi"
+    g0 = "22500 psi"
+    g_inf = "750 psi"
+    beta = "75000 1/s"
+
+Everything is validated on load; errors are :class:`~batball.errors.SpecError` naming the dotted
+field (``"material.g_inf"``), the value given and what is allowed.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from batball.errors import SpecError
+from batball.materials import MATERIAL_LAWS, MaterialLaw
+from batball.units import allowed_text, format_quantity, parse_quantity
+
+#: Names of the balls shipped as package data (``specs/data/<name>.toml``): the seed's types 1, 2.
+EMBEDDED_BALLS: tuple[str, ...] = ("type1", "type2")
+
+#: Keys of a ball spec document (``description`` is optional).
+BALL_KEYS: tuple[str, ...] = ("name", "description", "circumference", "mass", "material")
+
+MAX_CIRCUMFERENCE = 1.0  # m; any ball, not only the 12-in softball (0.3048 m)
+MAX_MASS = 10.0  # kg
+
+# Significant digits when writing SI values back to unit strings: exact enough to round-trip.
+_TOML_DIGITS = 12
+
+
+class ParameterValues(Mapping[str, float]):
+    """An immutable, hashable, picklable ``{parameter name: SI value}`` mapping."""
+
+    def __init__(self, values: Mapping[str, float]) -> None:
+        self._values = {name: float(value) for name, value in values.items()}
+
+    def __getitem__(self, name: str) -> float:
+        return self._values[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._values)
+
+    def __len__(self) -> int:
+        return len(self._values)
+
+    def __hash__(self) -> int:
+        return hash(tuple(self._values.items()))
+
+    def __repr__(self) -> str:
+        return f"ParameterValues({self._values!r})"
+
+
+@dataclass(frozen=True)
+class MaterialSpec:
+    """A material law and its parameter values.
+
+    Attributes:
+        law: key of :data:`batball.materials.MATERIAL_LAWS` (``"mat006"``, ``"elastic"``).
+        values: ``{parameter name: value}`` in SI (Pa, 1/s, ...), one entry per declared
+            parameter of the law, in declaration order.
+
+    Raises:
+        SpecError: unknown law, unknown or missing parameter, or a value out of its bounds
+            (field names ``"material.<parameter>"``).
+    """
+
+    law: str
+    values: Mapping[str, float]
+
+    def __post_init__(self) -> None:
+        law = material_law(self.law, field="material.law")
+        _reject_unknown_keys(self.values, [p.name for p in law.parameters], prefix="material.")
+        law.check(self.values, prefix="material")
+        ordered = {p.name: float(self.values[p.name]) for p in law.parameters}
+        object.__setattr__(self, "values", ParameterValues(ordered))
+
+    @property
+    def material_law(self) -> MaterialLaw:
+        """The registered law declaration."""
+        return MATERIAL_LAWS[self.law]
+
+
+@dataclass(frozen=True)
+class BallSpec:
+    """A ball: size, mass and material, all SI.
+
+    Attributes:
+        name: short name (``"type1"``).
+        circumference: great-circle circumference, m (12 in = 0.3048 m).
+        mass: total mass, kg (6.93 oz = 0.19646 kg).
+        material: the (homogeneous) material of the ball.
+        description: one line for reports.
+
+    Raises:
+        SpecError: empty name, circumference not in (0, 1] m, mass not in (0, 10] kg.
+    """
+
+    name: str
+    circumference: float
+    mass: float
+    material: MaterialSpec
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise SpecError("name", self.name, "a non-empty string")
+        _check_range("circumference", self.circumference, MAX_CIRCUMFERENCE, "in")
+        _check_range("mass", self.mass, MAX_MASS, "oz")
+        if not isinstance(self.material, MaterialSpec):
+            raise SpecError("material", self.material, "a MaterialSpec")
+
+    @property
+    def radius(self) -> float:
+        """Radius of the sphere with this circumference, m."""
+        return self.circumference / (2.0 * math.pi)
+
+    @property
+    def volume(self) -> float:
+        """Volume of the sphere, m^3."""
+        return 4.0 / 3.0 * math.pi * self.radius**3
+
+    @property
+    def mean_density(self) -> float:
+        """Mass over volume, kg/m^3 (about 400 kg/m^3 for a 12-in, 6.75-oz softball)."""
+        return self.mass / self.volume
+
+
+def _check_range(name: str, value: float, upper: float, unit: str) -> None:
+    """Raise :class:`SpecError` unless ``0 < value <= upper`` (SI), shown in ``unit``."""
+    if not (isinstance(value, int | float) and math.isfinite(value) and 0.0 < value <= upper):
+        shown = format_quantity(value, unit) if isinstance(value, int | float) else value
+        raise SpecError(name, shown, f"0 {unit} < {name} <= {format_quantity(upper, unit)}")
+
+
+def material_law(law: object, *, field: str) -> MaterialLaw:
+    """The registered law named ``law``; :class:`SpecError` listing the registered names if none."""
+    if not isinstance(law, str) or law not in MATERIAL_LAWS:
+        raise SpecError(field, law, f"one of {', '.join(sorted(MATERIAL_LAWS))}")
+    return MATERIAL_LAWS[law]
+
+
+def _reject_unknown_keys(table: Mapping[str, Any], known: list[str], *, prefix: str) -> None:
+    """Raise :class:`SpecError` naming the first key of ``table`` that is not in ``known``."""
+    for key, value in table.items():
+        if key not in known:
+            raise SpecError(f"{prefix}{key}", value, f"one of the keys {', '.join(known)}")
+
+
+def _required(table: Mapping[str, Any], key: str, *, field: str, allowed: str) -> Any:
+    """``table[key]``, or :class:`SpecError` ``(field, "missing", allowed)``."""
+    if key not in table:
+        raise SpecError(field, "missing", allowed)
+    return table[key]
+
+
+def material_spec_from_dict(table: object, *, field: str = "material") -> MaterialSpec:
+    """Build a :class:`MaterialSpec` from a TOML table ``{law = ..., <parameter> = "<value>"}``.
+
+    Args:
+        table: the ``[material]`` table; values are strings with units (bare numbers for
+            dimensionless parameters).
+        field: dotted path of the table, for error messages.
+
+    Raises:
+        SpecError: naming ``"<field>.<key>"`` for a missing, unknown or invalid entry.
+    """
+    if not isinstance(table, Mapping):
+        raise SpecError(field, table, "a table with 'law' and the law's parameters")
+    names = ", ".join(sorted(MATERIAL_LAWS))
+    law = material_law(
+        _required(table, "law", field=f"{field}.law", allowed=f"one of {names}"),
+        field=f"{field}.law",
+    )
+    keys = ["law", *[p.name for p in law.parameters]]
+    _reject_unknown_keys(table, keys, prefix=f"{field}.")
+    values = {}
+    for p in law.parameters:
+        path = f"{field}.{p.name}"
+        raw = _required(table, p.name, field=path, allowed=allowed_text(p.dimension))
+        values[p.name] = parse_quantity(raw, p.dimension, field=path)
+    return MaterialSpec(law=law.name, values=values)
+
+
+def ball_spec_from_dict(document: Mapping[str, Any], *, source: str) -> BallSpec:
+    """Build and validate a :class:`BallSpec` from a parsed TOML document.
+
+    Args:
+        document: keys :data:`BALL_KEYS`; quantities and masses as strings with units.
+        source: where the document came from (a path, ``"embedded ball 'type1'"``); added to
+            a raised error as a note.
+
+    Raises:
+        SpecError: naming the dotted field (``"mass"``, ``"material.g_inf"``).
+    """
+    try:
+        return _build_ball_spec(document)
+    except SpecError as exc:
+        exc.add_note(f"in the ball spec {source}")
+        raise
+
+
+def _build_ball_spec(document: Mapping[str, Any]) -> BallSpec:
+    """:func:`ball_spec_from_dict` without the source note."""
+    _reject_unknown_keys(document, list(BALL_KEYS), prefix="")
+    name = _required(document, "name", field="name", allowed="a non-empty string")
+    description = document.get("description", "")
+    if not isinstance(description, str):
+        raise SpecError("description", description, "a string")
+    quantities = {}
+    for key, dimension in (("circumference", "length"), ("mass", "mass")):
+        raw = _required(document, key, field=key, allowed=allowed_text(dimension))
+        quantities[key] = parse_quantity(raw, dimension, field=key)
+    material = material_spec_from_dict(
+        _required(document, "material", field="material", allowed="a [material] table")
+    )
+    return BallSpec(
+        name=name,
+        circumference=quantities["circumference"],
+        mass=quantities["mass"],
+        material=material,
+        description=description,
+    )
+
+
+def list_embedded_balls() -> list[str]:
+    """Names accepted by :func:`load_ball_spec` without a path (``["type1", "type2"]``)."""
+    return list(EMBEDDED_BALLS)
+
+
+def load_ball_spec(name_or_path: str | Path) -> BallSpec:
+    """Load an embedded ball by name, or a ball spec TOML file by path.
+
+    Args:
+        name_or_path: ``"type1"``, ``"type2"`` or the path of a TOML file.
+
+    Raises:
+        SpecError: neither an embedded name nor an existing file, invalid TOML, invalid content.
+    """
+    if isinstance(name_or_path, str) and name_or_path in EMBEDDED_BALLS:
+        data = resources.files("batball.specs").joinpath("data", f"{name_or_path}.toml")
+        text, source = data.read_text(encoding="utf-8"), f"embedded ball {name_or_path!r}"
+    else:
+        path = Path(name_or_path)
+        if not path.is_file():
+            allowed = f"an embedded ball ({', '.join(EMBEDDED_BALLS)}) or the path of a TOML file"
+            raise SpecError("ball", str(name_or_path), allowed)
+        text, source = path.read_text(encoding="utf-8"), str(path)
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SpecError("ball", source, f"valid TOML ({exc})") from None
+    return ball_spec_from_dict(document, source=source)
+
+
+def material_spec_to_toml_dict(spec: MaterialSpec) -> dict[str, str | float]:
+    """The ``[material]`` table of ``spec``: values as strings in their display units."""
+    table: dict[str, str | float] = {"law": spec.law}
+    for p in spec.material_law.parameters:
+        value = spec.values[p.name]
+        table[p.name] = (
+            value
+            if p.display_unit == ""
+            else format_quantity(value, p.display_unit, digits=_TOML_DIGITS)
+        )
+    return table
+
+
+def ball_spec_to_toml_dict(spec: BallSpec) -> dict[str, Any]:
+    """A TOML-able (and JSON-able) dict of ``spec`` with unit strings, for run folders and hashing.
+
+    Values are written with 12 significant digits, so :func:`ball_spec_from_dict` of the result
+    equals ``spec`` to a relative 1e-12.
+    """
+    return {
+        "name": spec.name,
+        "description": spec.description,
+        "circumference": format_quantity(spec.circumference, "in", digits=_TOML_DIGITS),
+        "mass": format_quantity(spec.mass, "oz", digits=_TOML_DIGITS),
+        "material": material_spec_to_toml_dict(spec.material),
+    }
