@@ -34,14 +34,16 @@ class MaterialLaw:
         raise KeyError(name)
 
     def check(self, values: Mapping[str, float], *, prefix: str = "material") -> None:
-        """Check each value against its declared bounds; raise :class:`SpecError` naming the field."""
+        """Check each value against its bounds; raise :class:`SpecError` naming the field."""
         for p in self.parameters:
             if p.name not in values:
-                raise SpecError(f"{prefix}.{p.name}", "missing", f"a {p.dimension} in {p.display_unit}")
+                raise SpecError(
+                    f"{prefix}.{p.name}", "missing", f"a {p.dimension} in {p.display_unit}"
+                )
             check_bounds(p, values[p.name], prefix=prefix)
 
     def kernel_constants(self, values: Mapping[str, float]) -> np.ndarray:
-        """Constants for the pointwise update kernel, shape ``(4,)``: K, G0, G_inf (Pa), beta (1/s)."""
+        """Kernel constants, shape ``(4,)``: K, G0, G_inf (Pa), beta (1/s)."""
         raise NotImplementedError  # pragma: no cover - every registered law overrides this
 
     def wave_speed(self, values: Mapping[str, float], density: float) -> float:

@@ -1,0 +1,194 @@
+"""Penalty contact between a deformable body's surface nodes and rigid analytic targets.
+
+The targets are the fixtures of the ball tests: the flat wall of ASTM F1887 (COR) and the 2.63-in
+half-cylinder of ASTM F2845 (CCOR, dynamic stiffness). Each slave node that penetrates the target
+by g > 0 gets the force k g n along the target's outward normal n; the target's reaction, the sum
+of the opposite forces, is what the load cells measure.
+
+Penalty stiffness (LS-DYNA conventions, physics.md section 6.6):
+
+* SOFT = 0: a body segment of area A on an element of volume V has k = SLSFAC * SFS * K A^2 / V,
+  with K the body's bulk modulus and SLSFAC = 0.1 by default (*CONTROL_CONTACT). A slave node takes
+  the mean stiffness of the surface segments around it. The rigid side is the stiffer one, so the
+  body's segments set the stiffness, as LS-DYNA's two-way contact does when a soft part meets a
+  stiff one.
+* SOFT = 1: k = max(SLSFAC * SFS * k0, SOFSCL * k1) with k1 = m / (2 dt^2), m the node's mass and
+  dt the initial stable step (LS-DYNA FAQ "contact.soft1", SOFSCL = 0.1 by default). This is the
+  stability-based stiffness that LS-DYNA recommends for soft materials against stiff ones.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba as nb
+import numpy as np
+
+from batball.errors import SpecError
+from batball.numerics import FASTMATH
+
+TARGET_PLANE = 0
+TARGET_CYLINDER = 1
+
+
+@dataclass(frozen=True)
+class RigidPlane:
+    """An infinite fixed flat wall.
+
+    Attributes:
+        point: (3,) a point on the wall face [m].
+        normal: (3,) unit normal pointing out of the wall, toward the ball.
+    """
+
+    point: np.ndarray
+    normal: np.ndarray
+
+    def packed(self) -> tuple[int, np.ndarray]:
+        """Kernel form: (TARGET_PLANE, [point, normal, zeros])."""
+        params = np.zeros(11)
+        params[0:3] = self.point
+        params[3:6] = unit(self.normal, "target.normal")
+        return TARGET_PLANE, params
+
+
+@dataclass(frozen=True)
+class RigidCylinder:
+    """A fixed half-cylinder whose curved face meets the ball.
+
+    Attributes:
+        axis_point: (3,) a point on the axis, at mid-length [m].
+        axis: (3,) unit axis direction.
+        front: (3,) unit vector normal to the axis toward the ball: only the half with
+            (x - axis_point) . front >= 0 is the impact face.
+        radius: [m]; length: the cylinder's length along the axis [m].
+    """
+
+    axis_point: np.ndarray
+    axis: np.ndarray
+    front: np.ndarray
+    radius: float
+    length: float
+
+    def packed(self) -> tuple[int, np.ndarray]:
+        """Kernel form: (TARGET_CYLINDER, [axis point, axis, front, radius, half length])."""
+        if not (self.radius > 0 and self.length > 0):
+            raise SpecError("target.radius", self.radius, "a positive radius and length")
+        params = np.zeros(11)
+        params[0:3] = self.axis_point
+        params[3:6] = unit(self.axis, "target.axis")
+        params[6:9] = unit(self.front, "target.front")
+        params[9] = self.radius
+        params[10] = 0.5 * self.length
+        return TARGET_CYLINDER, params
+
+
+def unit(vector: np.ndarray, field: str) -> np.ndarray:
+    """``vector`` scaled to unit length; a zero vector is a :class:`SpecError`."""
+    v = np.asarray(vector, dtype=np.float64)
+    norm = float(np.linalg.norm(v))
+    if not norm > 0:
+        raise SpecError(field, vector.tolist(), "a non-zero direction")
+    return v / norm
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _penetration(
+    kind: int, params: np.ndarray, x0: float, x1: float, x2: float, normal: np.ndarray
+) -> float:
+    """Penetration depth g (> 0 inside) of a point and the target's outward normal there."""
+    if kind == TARGET_PLANE:
+        for i in range(3):
+            normal[i] = params[3 + i]
+        return -(
+            (x0 - params[0]) * params[3]
+            + (x1 - params[1]) * params[4]
+            + (x2 - params[2]) * params[5]
+        )
+    d0 = x0 - params[0]
+    d1 = x1 - params[1]
+    d2 = x2 - params[2]
+    axial = d0 * params[3] + d1 * params[4] + d2 * params[5]
+    if abs(axial) > params[10]:
+        return -1.0
+    r0 = d0 - axial * params[3]
+    r1 = d1 - axial * params[4]
+    r2 = d2 - axial * params[5]
+    if r0 * params[6] + r1 * params[7] + r2 * params[8] < 0.0:
+        return -1.0
+    r = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+    if r == 0.0:
+        return -1.0
+    normal[0] = r0 / r
+    normal[1] = r1 / r
+    normal[2] = r2 / r
+    return params[9] - r
+
+
+@nb.njit(fastmath=FASTMATH, cache=True)
+def add_rigid_contact_forces(
+    points: np.ndarray,
+    node_ids: np.ndarray,
+    stiffness: np.ndarray,
+    kind: int,
+    params: np.ndarray,
+    forces: np.ndarray,
+    reaction: np.ndarray,
+) -> int:
+    """Add penalty forces on the slave nodes to ``forces``; write the target's reaction.
+
+    Args:
+        points: (n_points, 3) current coordinates [m].
+        node_ids: (n_slaves,) slave node ids; stiffness: (n_slaves,) penalty stiffness [N/m].
+        kind, params: the packed target (see ``RigidPlane.packed``, ``RigidCylinder.packed``).
+        forces: (n_points, 3) nodal forces [N], added to in place.
+        reaction: (3,) out: the force the body exerts on the target [N].
+
+    Returns:
+        The number of nodes in contact.
+    """
+    normal = np.empty(3)
+    reaction[:] = 0.0
+    n_active = 0
+    for s in range(node_ids.shape[0]):
+        n = node_ids[s]
+        g = _penetration(kind, params, points[n, 0], points[n, 1], points[n, 2], normal)
+        if g > 0.0:
+            n_active += 1
+            for i in range(3):
+                fi = stiffness[s] * g * normal[i]
+                forces[n, i] += fi
+                reaction[i] -= fi
+    return n_active
+
+
+def segment_stiffness(
+    points: np.ndarray,
+    faces: np.ndarray,
+    owner_volume: np.ndarray,
+    bulk_modulus: np.ndarray,
+    *,
+    scale: float,
+) -> np.ndarray:
+    """SOFT = 0 segment stiffness k = scale * K A^2 / V, shape (n_faces,) [N/m].
+
+    Args:
+        points: (n_points, 3) [m]; faces: (n_faces, 4) boundary quads.
+        owner_volume: (n_faces,) volume of each face's element [m^3].
+        bulk_modulus: (n_faces,) bulk modulus of each face's element [Pa].
+        scale: SLSFAC * SFS.
+    """
+    p = points[faces]
+    area_vec = 0.5 * np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 1])
+    area = np.linalg.norm(area_vec, axis=1)
+    return scale * bulk_modulus * area**2 / owner_volume
+
+
+def nodal_stiffness(
+    faces: np.ndarray, face_stiffness: np.ndarray, node_ids: np.ndarray, n_points: int
+) -> np.ndarray:
+    """Mean stiffness of the segments around each node of ``node_ids``, shape (n_nodes,) [N/m]."""
+    total = np.zeros(n_points)
+    count = np.zeros(n_points)
+    np.add.at(total, faces.ravel(), np.repeat(face_stiffness, 4))
+    np.add.at(count, faces.ravel(), 1.0)
+    return total[node_ids] / np.maximum(count[node_ids], 1.0)

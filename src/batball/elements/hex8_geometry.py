@@ -1,0 +1,176 @@
+"""Geometry of the trilinear 8-node hexahedron, as Numba kernels.
+
+Node order is LS-DYNA's (and VTK's): 1-2-3-4 the bottom face counter-clockwise seen from the top,
+5-6-7-8 the top face. Reference coordinates of node k are ``REFERENCE_CORNERS[k]``.
+
+The uniform-strain gradient operator of Flanagan & Belytschko (1981, IJNME 17:679) is used: the
+vectors B_I = dV/dx_I (area units), the derivative of the exact trilinear volume with respect to
+node I's coordinates, so that tr(D) V = dV/dt holds exactly. The closed form for node 1 was derived
+with SymPy (volume = integral of det J over the reference cube); the other nodes follow by the
+rotations of the reference cube (``NODE_PERMUTATIONS``), and every component by the cyclic
+permutation of x, y, z. The exact volume is then V = (1/3) sum_I x_I . B_I (V is homogeneous of
+degree 3 in the coordinates).
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+from batball.numerics import FASTMATH
+
+REFERENCE_CORNERS = np.array(
+    [
+        [-1, -1, -1],
+        [1, -1, -1],
+        [1, 1, -1],
+        [-1, 1, -1],
+        [-1, -1, 1],
+        [1, -1, 1],
+        [1, 1, 1],
+        [-1, 1, 1],
+    ],
+    dtype=np.float64,
+)
+
+#: Row I is an orientation-preserving relabelling of the reference cube that maps node 0 to node I;
+#: the node-0 formula of dV/dx evaluated on relabelled nodes gives node I's derivative.
+NODE_PERMUTATIONS = np.array(
+    [
+        [0, 1, 2, 3, 4, 5, 6, 7],
+        [1, 0, 4, 5, 2, 3, 7, 6],
+        [2, 3, 0, 1, 6, 7, 4, 5],
+        [3, 2, 6, 7, 0, 1, 5, 4],
+        [4, 5, 1, 0, 7, 6, 2, 3],
+        [5, 4, 7, 6, 1, 0, 3, 2],
+        [6, 7, 3, 2, 5, 4, 0, 1],
+        [7, 6, 5, 4, 3, 2, 1, 0],
+    ],
+    dtype=np.int64,
+)
+
+#: Flanagan-Belytschko hourglass base vectors, shape (4, 8):
+#: eta*zeta, zeta*xi, xi*eta and xi*eta*zeta at the corners.
+HOURGLASS_BASE = np.array(
+    [
+        [1, 1, -1, -1, -1, -1, 1, 1],
+        [1, -1, -1, 1, -1, 1, 1, -1],
+        [1, -1, 1, -1, 1, -1, 1, -1],
+        [-1, 1, -1, 1, 1, -1, 1, -1],
+    ],
+    dtype=np.float64,
+)
+
+#: The six faces of a hex as node indices, each ordered so its normal points outward.
+HEX_FACES = np.array(
+    [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]],
+    dtype=np.int64,
+)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _node0_derivative(y1, y2, y3, y4, y5, y7, z1, z2, z3, z4, z5, z7):
+    """12 dV/dx_0 as a function of the y and z coordinates of nodes 1, 2, 3, 4, 5 and 7."""
+    return (
+        y1 * (z4 + z5 - z2 - z3)
+        + y2 * (z1 - z3)
+        + y3 * (z1 + z2 - z4 - z7)
+        + y4 * (z3 + z7 - z1 - z5)
+        + y5 * (z4 - z1)
+        + y7 * (z3 - z4)
+    )
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _component(
+    xe: np.ndarray, j: int, k: int, n1: int, n2: int, n3: int, n4: int, n5: int, n7: int
+) -> float:
+    """12 dV/dx_node along the axis whose cyclic successors are j and k."""
+    return _node0_derivative(
+        xe[3 * n1 + j],
+        xe[3 * n2 + j],
+        xe[3 * n3 + j],
+        xe[3 * n4 + j],
+        xe[3 * n5 + j],
+        xe[3 * n7 + j],
+        xe[3 * n1 + k],
+        xe[3 * n2 + k],
+        xe[3 * n3 + k],
+        xe[3 * n4 + k],
+        xe[3 * n5 + k],
+        xe[3 * n7 + k],
+    )
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _node_derivative(
+    xe: np.ndarray, b: np.ndarray, node: int, n1: int, n2: int, n3: int, n4: int, n5: int, n7: int
+) -> None:
+    """Row ``node`` of dV/dx from the relabelled neighbours (literal indices, so it unrolls)."""
+    b[3 * node] = _component(xe, 1, 2, n1, n2, n3, n4, n5, n7) * (1.0 / 12.0)
+    b[3 * node + 1] = _component(xe, 2, 0, n1, n2, n3, n4, n5, n7) * (1.0 / 12.0)
+    b[3 * node + 2] = _component(xe, 0, 1, n1, n2, n3, n4, n5, n7) * (1.0 / 12.0)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def volume_derivatives(xe: np.ndarray, b: np.ndarray) -> float:
+    """Fill ``b`` (24,) with dV/dx_I (m^2) for element coordinates ``xe`` (24,) [m].
+
+    Both are flat, node-major: entry 3 I + i is node I's component i. The node arguments below
+    are the rows of ``NODE_PERMUTATIONS`` at positions 1, 2, 3, 4, 5, 7.
+
+    Returns:
+        The exact trilinear volume (m^3); negative if the element is inverted.
+    """
+    _node_derivative(xe, b, 0, 1, 2, 3, 4, 5, 7)
+    _node_derivative(xe, b, 1, 0, 4, 5, 2, 3, 6)
+    _node_derivative(xe, b, 2, 3, 0, 1, 6, 7, 5)
+    _node_derivative(xe, b, 3, 2, 6, 7, 0, 1, 4)
+    _node_derivative(xe, b, 4, 5, 1, 0, 7, 6, 3)
+    _node_derivative(xe, b, 5, 4, 7, 6, 1, 0, 2)
+    _node_derivative(xe, b, 6, 7, 3, 2, 5, 4, 1)
+    _node_derivative(xe, b, 7, 6, 5, 4, 3, 2, 0)
+    volume = 0.0
+    for m in range(24):
+        volume += xe[m] * b[m]
+    return volume * (1.0 / 3.0)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def largest_face_area(xe: np.ndarray) -> float:
+    """Largest face area (m^2) of a hex with flat coordinates ``xe`` (24,); |d13 x d24| / 2."""
+    largest = 0.0
+    for f in range(6):
+        a = 3 * HEX_FACES[f, 0]
+        b = 3 * HEX_FACES[f, 1]
+        c = 3 * HEX_FACES[f, 2]
+        d = 3 * HEX_FACES[f, 3]
+        p0 = xe[c] - xe[a]
+        p1 = xe[c + 1] - xe[a + 1]
+        p2 = xe[c + 2] - xe[a + 2]
+        q0 = xe[d] - xe[b]
+        q1 = xe[d + 1] - xe[b + 1]
+        q2 = xe[d + 2] - xe[b + 2]
+        c0 = p1 * q2 - p2 * q1
+        c1 = p2 * q0 - p0 * q2
+        c2 = p0 * q1 - p1 * q0
+        area = 0.5 * np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+        largest = max(largest, area)
+    return largest
+
+
+@nb.njit(cache=True)
+def volume_derivatives_batch(
+    points: np.ndarray, cells: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Volume derivatives (n_cells, 8, 3) [m^2] and exact volumes (n_cells,) [m^3] of many hexes."""
+    n_cells = cells.shape[0]
+    b_all = np.empty((n_cells, 24))
+    volumes = np.empty(n_cells)
+    xe = np.empty(24)
+    for e in range(n_cells):
+        for a in range(8):
+            for i in range(3):
+                xe[3 * a + i] = points[cells[e, a], i]
+        volumes[e] = volume_derivatives(xe, b_all[e])
+    return b_all.reshape((n_cells, 8, 3)), volumes
