@@ -1,6 +1,7 @@
 """Meshes: the :class:`Mesh` container, hex8 geometry, the O-grid ball, and quality numbers."""
 
 from batball.mesh.ball import make_ball_mesh
+from batball.mesh.box import make_box_mesh
 from batball.mesh.hexa import (
     boundary_faces,
     characteristic_lengths,
@@ -18,6 +19,7 @@ __all__ = [
     "characteristic_lengths",
     "hex_volumes",
     "make_ball_mesh",
+    "make_box_mesh",
     "mesh_quality",
     "scaled_jacobians",
     "surface_point_ids",

@@ -1,0 +1,159 @@
+"""The command line: ``batball <test> ...``; ``--json`` prints one JSON object on stdout.
+
+Bad input exits with status 2 and one line naming the field, the value and what is allowed; a
+numerical failure exits with status 3 and says where and when.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+from batball.errors import SimulationError, SpecError
+
+#: Default speeds: the seed's lower CCOR speed (F2845) and F1887's nominal 60 mph.
+DEFAULT_SPEEDS = {"ccor": "95 mph", "cor": "60 mph"}
+
+
+def add_impact_parser(sub: Any, test: str, help_text: str) -> None:
+    """The options of a ball-impact test."""
+    p = sub.add_parser(test, help=help_text, description=help_text)
+    p.add_argument("--ball", default="type1", help="embedded ball (type1, type2) or a TOML file")
+    p.add_argument(
+        "--speed",
+        default=DEFAULT_SPEEDS[test],
+        help=f"inbound speed with its unit (default {DEFAULT_SPEEDS[test]!r})",
+    )
+    p.add_argument(
+        "--divisions",
+        type=int,
+        default=12,
+        help="ball mesh size: 12 gives the seed's 12,096 hexes (default 12)",
+    )
+    p.add_argument("--hourglass-type", type=int, default=1, help="LS-DYNA IHQ 1-5 (default 1)")
+    p.add_argument("--hourglass-coefficient", type=float, default=0.1, help="QH/QM (0.1)")
+    p.add_argument("--no-bulk-viscosity", action="store_true", help="switch bulk viscosity off")
+    p.add_argument("--soft", type=int, default=0, help="contact SOFT option, 0 or 1 (default 0)")
+    p.add_argument(
+        "--contact-threshold",
+        type=float,
+        default=0.01,
+        help="contact-time level as a fraction of the peak force (default 0.01)",
+    )
+    p.add_argument("--runs-dir", type=Path, default=Path("runs"), help="results store (runs/)")
+    p.add_argument("--no-reuse", action="store_true", help="run even if the same run is stored")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(handler=run_impact_command, test=test)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``batball`` parser with its subcommands."""
+    parser = argparse.ArgumentParser(prog="batball", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    add_impact_parser(
+        sub, "ccor", "CCOR and dynamic stiffness against the 2.63-in half-cylinder (ASTM F2845)"
+    )
+    add_impact_parser(sub, "cor", "COR against a rigid flat wall (ASTM F1887)")
+    return parser
+
+
+def impact_setup(args: argparse.Namespace) -> Any:
+    """An ImpactSetup from the parsed options (units parsed here, at the edge)."""
+    from batball.lab.impact import ContactOptions, ImpactSetup
+    from batball.solvers.explicit import BulkViscosity, HourglassControl
+    from batball.units import parse_quantity
+
+    speed = parse_quantity(args.speed, "velocity", field="speed")
+    if not speed > 0:
+        raise SpecError("speed", args.speed, "a positive speed, e.g. '95 mph'")
+    return ImpactSetup(
+        test=args.test,
+        speed=speed,
+        divisions=args.divisions,
+        hourglass=HourglassControl(
+            type=args.hourglass_type, coefficient=args.hourglass_coefficient
+        ),
+        bulk_viscosity=BulkViscosity(enabled=not args.no_bulk_viscosity),
+        contact=ContactOptions(soft=args.soft),
+        contact_threshold=args.contact_threshold,
+    )
+
+
+def progress_bar(end_time: float, enabled: bool) -> tuple[Callable[[float], None], Any]:
+    """A tqdm bar over simulated time (ms) on stderr; shown only on a terminal."""
+    from tqdm import tqdm
+
+    bar = tqdm(
+        total=round(end_time * 1e3, 3),
+        unit="ms",
+        desc="simulated",
+        leave=False,
+        disable=None if enabled else True,
+        bar_format="{l_bar}{bar}| {n:.2f}/{total} ms",
+    )
+
+    def update(t: float) -> None:
+        bar.n = round(t * 1e3, 3)
+        bar.refresh()
+
+    return update, bar
+
+
+def run_impact_command(args: argparse.Namespace) -> int:
+    """``batball ccor`` / ``batball cor``."""
+    from batball.lab.impact_run import run_impact_test
+    from batball.specs import load_ball_spec
+
+    ball = load_ball_spec(args.ball)
+    setup = impact_setup(args)
+    update, bar = progress_bar(setup.end_time, enabled=True)
+    try:
+        summary, folder = run_impact_test(
+            ball, setup, runs_dir=args.runs_dir, reuse=not args.no_reuse, progress=update
+        )
+    finally:
+        bar.close()
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(describe_impact(summary))
+    return 0
+
+
+def describe_impact(s: dict[str, Any]) -> str:
+    """A short human report of an impact summary, every number with its unit."""
+    name = s["test"].upper()
+    return "\n".join(
+        [
+            f"{name} of ball {s['ball']} ({s['ball_mass_oz']:.2f} oz) at {s['inbound_mph']:.1f} mph",
+            f"  {name:<22} {s[s['test']]:.3f}",
+            f"  {'rebound speed':<22} {s['rebound_mph']:.1f} mph",
+            f"  {'dynamic stiffness':<22} {s['ds_lbf_per_in']:.0f} lb/in",
+            f"  {'peak force':<22} {s['peak_force_lbf']:.0f} lbf",
+            f"  {'contact time':<22} {s['contact_time_ms']:.3f} ms",
+            f"  {'energy balance error':<22} {100 * s['energy_balance_error']:.2f} %",
+            f"  {s['n_cells']} hexes, {s['n_steps']} steps, {s['wall_seconds']:.1f} s",
+            f"  results in {s['run_folder']}",
+        ]
+    )
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``batball`` command."""
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.handler(args))
+    except SpecError as exc:
+        print(f"batball: error: {exc}", file=sys.stderr)
+        return 2
+    except SimulationError as exc:
+        print(f"batball: simulation stopped: {exc}", file=sys.stderr)
+        return 3
+
+
+if __name__ == "__main__":
+    sys.exit(main())

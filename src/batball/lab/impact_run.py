@@ -1,0 +1,145 @@
+"""Run a ball-impact test into the results store and summarise it with units.
+
+``runs/<test>-<hash>/`` holds ``summary.json``, ``history.csv`` (time, load-cell force, ball
+velocity, energies), ``force_time.png``, ``ball.toml`` (the ball as run) and ``fields.pvd`` with
+its per-frame VTU files (the deformed ball for ParaView). Runs with the same inputs are reused.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from batball import __version__
+from batball.io.fields import write_time_series
+from batball.io.store import (
+    load_cached_summary,
+    run_folder,
+    write_csv_atomic,
+    write_summary,
+    write_text_atomic,
+)
+from batball.lab.impact import ImpactResult, ImpactSetup, run_impact
+from batball.mesh import mesh_quality
+from batball.report.plots import plot_force_time
+from batball.specs import BallSpec, ball_spec_to_toml_dict
+
+MPH = 0.44704  # m/s
+LBF = 4.4482216152605  # N
+LBF_PER_IN = LBF / 0.0254  # N/m
+OZ = 0.028349523125  # kg
+IN = 0.0254  # m
+
+
+def impact_inputs(ball: BallSpec, setup: ImpactSetup) -> dict[str, Any]:
+    """Everything that determines an impact run, JSON-able (the key of its run folder)."""
+    return {
+        "ball": ball_spec_to_toml_dict(ball),
+        "setup": dataclasses.asdict(setup),
+        "batball": __version__,
+    }
+
+
+def summarise(result: ImpactResult, wall_seconds: float) -> dict[str, Any]:
+    """The summary a person reads: each number's unit is in its key."""
+    m, run, setup = result.measures, result.run, result.setup
+    kinetic0 = 0.5 * run.mass * m.inbound_speed**2
+    quality = mesh_quality(result.mesh)
+    return {
+        "test": setup.test,
+        setup.test: m.restitution,
+        "ds_lbf_per_in": m.dynamic_stiffness / LBF_PER_IN,
+        "peak_force_lbf": m.peak_force / LBF,
+        "contact_time_ms": m.contact_time * 1e3,
+        "contact_time_threshold_fraction_of_peak": setup.contact_threshold,
+        "time_of_peak_ms": m.time_of_peak * 1e3,
+        "inbound_mph": m.inbound_speed / MPH,
+        "rebound_mph": m.rebound_speed / MPH,
+        "ball": result.ball.name,
+        "ball_mass_oz": run.mass / OZ,
+        "energy_balance_error": float(np.abs(run.energies[:, 5]).max() / kinetic0),
+        "hourglass_energy_fraction": float(run.energies[-1, 2] / kinetic0),
+        "initial_kinetic_energy_j": kinetic0,
+        "n_cells": result.mesh.n_cells,
+        "n_points": result.mesh.n_points,
+        "min_scaled_jacobian": quality.min_scaled_jacobian,
+        "min_characteristic_length_in": quality.min_characteristic_length / IN,
+        "n_steps": run.n_steps,
+        "end_time_ms": float(run.time[-1] * 1e3),
+        "wall_seconds": wall_seconds,
+        "solver_seconds": run.wall_seconds,
+        "element_cycles_per_second": result.mesh.n_cells * run.n_steps / run.wall_seconds,
+        "hourglass_type": setup.hourglass.type,
+        "hourglass_coefficient": setup.hourglass.coefficient,
+        "bulk_viscosity": setup.bulk_viscosity.enabled,
+        "contact_soft": setup.contact.soft,
+    }
+
+
+def write_history(folder: Path, result: ImpactResult) -> None:
+    """history.csv: time, load-cell force, ball centre-of-mass velocity and the energies."""
+    run = result.run
+    columns = {
+        "time_ms": run.time * 1e3,
+        "contact_force_lbf": result.load_cell / LBF,
+        "ball_velocity_z_mph": run.com_velocity[:, 2] / MPH,
+        "ball_speed_mph": np.linalg.norm(run.com_velocity, axis=1) / MPH,
+    }
+    for k, name in enumerate(
+        ("kinetic", "internal", "hourglass", "bulk_viscosity", "contact", "balance_error")
+    ):
+        columns[f"{name}_energy_j"] = run.energies[:, k]
+    columns["contact_nodes"] = run.contact_nodes
+    write_csv_atomic(folder / "history.csv", columns)
+
+
+def write_outputs(folder: Path, result: ImpactResult, summary: dict[str, Any]) -> None:
+    """All files of a finished run; summary.json last, so a folder without it is unfinished."""
+    import tomli_w
+
+    write_history(folder, result)
+    write_text_atomic(folder / "ball.toml", tomli_w.dumps(ball_spec_to_toml_dict(result.ball)))
+    title = (
+        f"{result.setup.test.upper()} {result.ball.name} at "
+        f"{result.measures.inbound_speed / MPH:.0f} mph"
+    )
+    plot_force_time(
+        folder / "force_time.png",
+        result.run.time,
+        result.load_cell,
+        title=title,
+        threshold=result.setup.contact_threshold * result.measures.peak_force,
+    )
+    write_time_series(
+        folder / "fields.pvd",
+        result.mesh,
+        result.run.frame_times,
+        result.run.frames.astype(np.float64),
+    )
+    write_summary(folder, summary)
+
+
+def run_impact_test(
+    ball: BallSpec,
+    setup: ImpactSetup,
+    *,
+    runs_dir: Path,
+    reuse: bool = True,
+    progress: Callable[[float], None] | None = None,
+) -> tuple[dict[str, Any], Path]:
+    """Run (or reuse) an impact test; returns its summary and its run folder."""
+    folder = run_folder(runs_dir, setup.test, impact_inputs(ball, setup))
+    cached = load_cached_summary(folder) if reuse else None
+    if cached is not None:
+        return cached, folder
+    start = time.perf_counter()
+    result = run_impact(ball, setup, progress=progress)
+    summary = summarise(result, time.perf_counter() - start)
+    summary["run_folder"] = folder.as_posix()
+    write_outputs(folder, result, summary)
+    return summary, folder
