@@ -129,7 +129,8 @@ def describe_impact(s: dict[str, Any]) -> str:
     name = s["test"].upper()
     return "\n".join(
         [
-            f"{name} of ball {s['ball']} ({s['ball_mass_oz']:.2f} oz) at {s['inbound_mph']:.1f} mph",
+            f"{name} of ball {s['ball']} ({s['ball_mass_oz']:.2f} oz) "
+            f"at {s['inbound_mph']:.1f} mph",
             f"  {name:<22} {s[s['test']]:.3f}",
             f"  {'rebound speed':<22} {s['rebound_mph']:.1f} mph",
             f"  {'dynamic stiffness':<22} {s['ds_lbf_per_in']:.0f} lb/in",
