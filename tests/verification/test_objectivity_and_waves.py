@@ -87,3 +87,19 @@ def test_wave_front_reaches_the_far_end_at_the_bar_speed() -> None:
     distance = 0.2 - 10 * 0.0025
     # the half-height point of a smeared front moves at c; 2 % is about one element's transit
     assert solver.state.time == pytest.approx(distance / c, rel=0.02)
+
+
+def test_an_inverted_element_stops_the_run_saying_which_and_when() -> None:
+    from batball.errors import SimulationError
+    from batball.solvers.explicit import BulkViscosity
+
+    mesh = make_box_mesh((0.01, 0.01, 0.01), (1, 1, 1))
+    velocity = np.zeros((mesh.n_points, 3))
+    velocity[mesh.points[:, 2] > 0.005, 2] = -1e5  # the top face crosses the bottom in one step
+    constants = MATERIAL_LAWS["elastic"].kernel_constants(
+        {"youngs_modulus": 1e9, "poissons_ratio": 0.3}
+    )
+    controls = ExplicitControls(end_time=1e-3, bulk_viscosity=BulkViscosity(enabled=False))
+    solver = ExplicitSolver(solid_model(mesh, constants, 1000.0, velocity), controls)
+    with pytest.raises(SimulationError, match=r"element 0 inverted at t = 0\.00\d+ ms \(step 1\)"):
+        solver.run()

@@ -19,7 +19,7 @@ from batball.contact.rigid import (
     nodal_stiffness,
     segment_stiffness,
 )
-from batball.errors import SpecError
+from batball.errors import SimulationError, SpecError
 from batball.lab.measures import ImpactMeasures, measure_impact
 from batball.materials import MATERIAL_LAWS
 from batball.mesh import Mesh, boundary_faces, hex_volumes, make_ball_mesh
@@ -192,6 +192,12 @@ def run_impact(
         separation_time=setup.separation_time,
     )
     run = run_explicit(model, controls, progress=progress)
+    if run.contact_nodes[-1] > 0 or not run.contact_nodes.any():
+        state = "is still in contact with" if run.contact_nodes.any() else "never reached"
+        raise SimulationError(
+            f"the ball {state} the target at the end time {setup.end_time * 1e3:.2f} ms, so no "
+            f"rebound can be measured; raise end_time or check the material"
+        )
     direction = model.initial_velocity[0] / setup.speed
     load_cell = run.reaction[:, 0, :] @ direction
     measures = measure_impact(
