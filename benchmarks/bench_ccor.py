@@ -1,0 +1,62 @@
+"""Full-size CCOR benchmark: ball type 1 at 95 mph on the 12,096-hex ball.
+
+Runs the whole test (mesh, model, explicit run to separation, measurements) once to compile the
+Numba kernels, then times it with 1 thread (the baseline in the same run) and with every thread,
+and prints wall time and hex element-cycles per second for each. Usage:
+
+    python benchmarks/bench_ccor.py [--divisions 12] [--repeats 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+
+CHILD = """
+import json, time, numba
+from batball.lab.impact import ImpactSetup, run_impact
+from batball.specs import load_ball_spec
+numba.set_num_threads({threads})
+ball = load_ball_spec("type1")
+setup = ImpactSetup(test="ccor", speed=95 * 0.44704, divisions={divisions})
+run_impact(ball, ImpactSetup(test="ccor", speed=95 * 0.44704, divisions=3))  # compile
+walls, solver = [], []
+for _ in range({repeats}):
+    start = time.perf_counter()
+    result = run_impact(ball, setup)
+    walls.append(time.perf_counter() - start)
+    solver.append(result.run.wall_seconds)
+print(json.dumps(dict(walls=walls, solver=solver, n_cells=result.mesh.n_cells,
+                      n_steps=result.run.n_steps, phases=result.run.phase_seconds,
+                      ccor=result.measures.restitution)))
+"""
+
+
+def measure(threads: int, divisions: int, repeats: int) -> dict:
+    code = CHILD.format(threads=threads, divisions=divisions, repeats=repeats)
+    out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--divisions", type=int, default=12)
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args()
+    import numba
+
+    for threads in sorted({1, numba.config.NUMBA_NUM_THREADS}):
+        r = measure(threads, args.divisions, args.repeats)
+        wall, solver = statistics.median(r["walls"]), statistics.median(r["solver"])
+        rate = r["n_cells"] * r["n_steps"] / solver
+        print(f"threads {threads}: {r['n_cells']} hexes x {r['n_steps']} cycles; wall "
+              f"{wall:.2f} s (median of {args.repeats}), solver {solver:.2f} s, "
+              f"{rate / 1e6:.1f} M element-cycles/s; CCOR {r['ccor']:.4f}")
+        print("  phases (s, last run):", {k: round(v, 2) for k, v in r["phases"].items()})
+
+
+if __name__ == "__main__":
+    main()
