@@ -237,6 +237,25 @@ def _stress_forces(
         f[3 * a + 2] = -(szx * b0 + syz * b1 + szz * b2)
 
 
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _hourglass(
+    xe: np.ndarray, ve: np.ndarray, b: np.ndarray, vol: float, rho: float, c: float,
+    length: float, gam: np.ndarray, f: np.ndarray, hg: np.ndarray, hg_type: int,
+    coefficient: float, dt: float,
+) -> float:
+    """Hourglass shape vectors and coefficients of one element, then its hourglass forces."""
+    if hg_type == 1:
+        gam[:, :] = HOURGLASS_BASE
+    else:
+        orthogonal_hourglass_vectors(xe, b, vol, gam)
+    viscous = coefficient * rho * length * length * c / 4.0
+    bb = 0.0
+    for m in range(24):
+        bb += b[m] * b[m]
+    stiffness = coefficient * rho * c * c * bb / (3.0 * vol)
+    return hourglass_forces(ve, gam, f, hg, hg_type, viscous, stiffness, dt)
+
+
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def compute_hex8_forces(
     points: np.ndarray,
@@ -317,16 +336,8 @@ def compute_hex8_forces(
             e_bv -= bulk_q * trd * dt * vmid
             pressure[e] = p_new
             _stress_forces(e, b, s_inf, h, p_new + bulk_q, f)
-            if hg_type == 1:
-                gam[:, :] = HOURGLASS_BASE
-            else:
-                orthogonal_hourglass_vectors(xe, b, vol, gam)
-            viscous = hg_coefficient * rho * length * length * c / 4.0
-            bb = 0.0
-            for m in range(24):
-                bb += b[m] * b[m]
-            stiffness = hg_coefficient * rho * c * c * bb / (3.0 * vol)
-            e_hg += hourglass_forces(ve, gam, f, hg_state[e], hg_type, viscous, stiffness, dt)
+            e_hg += _hourglass(xe, ve, b, vol, rho, c, length, gam, f, hg_state[e], hg_type,
+                               hg_coefficient, dt)
             cell_dt[e] = stable_step(vol, largest_face_area(xe), c, trd, q1, q2)
         energy_increments[chunk, ENERGY_INTERNAL] = e_int
         energy_increments[chunk, ENERGY_HOURGLASS] = e_hg

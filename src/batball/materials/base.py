@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -15,7 +16,7 @@ LAW_ID_VISCOELASTIC = 1
 
 
 @dataclass(frozen=True)
-class MaterialLaw:
+class MaterialLaw(ABC):
     """A material law: its declared parameters and how to turn values into kernel constants.
 
     Subclasses add cross-field checks (``check``) and the mapping to kernel constants.
@@ -42,9 +43,9 @@ class MaterialLaw:
                 )
             check_bounds(p, values[p.name], prefix=prefix)
 
+    @abstractmethod
     def kernel_constants(self, values: Mapping[str, float]) -> np.ndarray:
         """Kernel constants, shape ``(4,)``: K, G0, G_inf (Pa), beta (1/s)."""
-        raise NotImplementedError  # pragma: no cover - every registered law overrides this
 
     def wave_speed(self, values: Mapping[str, float], density: float) -> float:
         """Dilatational wave speed (m/s) from the stiffest (instantaneous) moduli."""
