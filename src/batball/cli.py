@@ -58,7 +58,146 @@ def build_parser() -> argparse.ArgumentParser:
         sub, "ccor", "CCOR and dynamic stiffness against the 2.63-in half-cylinder (ASTM F2845)"
     )
     add_impact_parser(sub, "cor", "COR against a rigid flat wall (ASTM F1887)")
+    add_props_parser(sub)
+    add_fit_bat_parser(sub)
     return parser
+
+
+def add_bat_mesh_options(p: Any) -> None:
+    """The options every bat command shares: which bat, the mesh density and the pivot."""
+    p.add_argument("--bat", default="default", help="embedded bat (default) or a TOML file")
+    p.add_argument(
+        "--circumferential",
+        type=int,
+        default=48,
+        help="shells around the circumference (default 48; with 0.1 in: 20,928 shells)",
+    )
+    p.add_argument(
+        "--axial-size", default="0.1 in", help="largest shell length along the bat (0.1 in)"
+    )
+    p.add_argument("--pivot", default="6 in", help="pivot distance from the knob end (6 in)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def add_props_parser(sub: Any) -> None:
+    """``batball props``: weight, balance point and MOI of a bat (ASTM F2398)."""
+    help_text = "weight, balance point and MOI about the 6-in pivot of a bat (ASTM F2398)"
+    p = sub.add_parser("props", help=help_text, description=help_text)
+    add_bat_mesh_options(p)
+    p.add_argument("--runs-dir", type=Path, default=Path("runs"), help="results store (runs/)")
+    p.add_argument("--no-reuse", action="store_true", help="run even if the same run is stored")
+    p.set_defaults(handler=run_props_command)
+
+
+def add_fit_bat_parser(sub: Any) -> None:
+    """``batball fit-bat``: adjust chosen bat parameters to measured weight, BP and MOI."""
+    help_text = "fit chosen layup or lumped-mass values of a bat to its weight, BP and MOI"
+    p = sub.add_parser("fit-bat", help=help_text, description=help_text)
+    add_bat_mesh_options(p)
+    p.add_argument(
+        "--free",
+        action="append",
+        help="a parameter to adjust: lumped_mass:<part> or thickness:<ply label>; repeat it "
+        "(default: lumped_mass:endcap, thickness:handle-glass, thickness:barrel-carbon)",
+    )
+    p.add_argument("--weight", default="22.1 oz", help="target weight (seed Table 1: 22.1 oz)")
+    p.add_argument(
+        "--balance-point", default="21.0 in", help="target balance point from the knob (21.0 in)"
+    )
+    p.add_argument(
+        "--moi", default="6920 oz*in**2", help="target MOI about the pivot (6920 oz*in**2)"
+    )
+    p.add_argument("--output", type=Path, help="write the fitted bat to this TOML file")
+    p.set_defaults(handler=run_fit_bat_command)
+
+
+def bat_mesh_options(args: argparse.Namespace) -> dict[str, Any]:
+    """circumferential, axial_size and pivot (SI) from the parsed options, validated."""
+    from batball.units import parse_quantity
+
+    if args.circumferential < 3:
+        raise SpecError("circumferential", args.circumferential, "an integer >= 3")
+    axial_size = parse_quantity(args.axial_size, "length", field="axial-size")
+    if not axial_size > 0:
+        raise SpecError("axial-size", args.axial_size, "a positive length, e.g. '0.1 in'")
+    pivot = parse_quantity(args.pivot, "length", field="pivot")
+    return {"circumferential": args.circumferential, "axial_size": axial_size, "pivot": pivot}
+
+
+def run_props_command(args: argparse.Namespace) -> int:
+    """``batball props``."""
+    from batball.lab.props_run import run_props_test
+    from batball.specs import load_bat_spec
+
+    spec = load_bat_spec(args.bat)
+    summary, _ = run_props_test(
+        spec, runs_dir=args.runs_dir, reuse=not args.no_reuse, **bat_mesh_options(args)
+    )
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(describe_props(summary))
+    return 0
+
+
+def describe_props(s: dict[str, Any]) -> str:
+    """A short human report of a props summary, every number with its unit."""
+    return "\n".join(
+        [
+            f"Mass properties of bat {s['bat']} ({s['length_in']:.1f} in), ASTM F2398",
+            f"  {'weight':<28} {s['weight_oz']:.2f} oz",
+            f"  {'balance point from knob end':<28} {s['balance_point_in']:.2f} in",
+            f"  {'MOI about the pivot':<28} {s['moi_pivot_oz_in2']:.0f} oz*in^2 "
+            f"(pivot {s['pivot_in']:g} in from the knob end)",
+            f"  {'MOI about the centre of mass':<28} {s['moi_cm_oz_in2']:.0f} oz*in^2",
+            f"  {s['n_shells']} shells, {s['wall_seconds']:.2f} s",
+            f"  results in {s['run_folder']}",
+        ]
+    )
+
+
+def run_fit_bat_command(args: argparse.Namespace) -> int:
+    """``batball fit-bat``; exits with status 1 when the targets cannot be met (bounds)."""
+    from batball.lab.fit_bat import (
+        DEFAULT_FREE,
+        FreeParameter,
+        MassTargets,
+        fit_bat,
+        fit_summary,
+        write_fitted_bat,
+    )
+    from batball.specs import load_bat_spec
+    from batball.units import parse_quantity
+
+    spec = load_bat_spec(args.bat)
+    options = bat_mesh_options(args)
+    targets = MassTargets(
+        weight=parse_quantity(args.weight, "mass", field="weight"),
+        balance_point=parse_quantity(args.balance_point, "length", field="balance-point"),
+        moi_pivot=parse_quantity(args.moi, "moment_of_inertia", field="moi"),
+        pivot=options.pop("pivot"),
+    )
+    free = tuple(FreeParameter.parse(text) for text in (args.free or DEFAULT_FREE))
+    fit = fit_bat(spec, targets, free, **options)
+    if args.output is not None:
+        write_fitted_bat(args.output, fit)
+    summary = fit_summary(fit, targets)
+    print(json.dumps(summary, indent=2) if args.json else describe_fit(summary))
+    return 0 if fit.matched else 1
+
+
+def describe_fit(s: dict[str, Any]) -> str:
+    """A short human report of a fit summary."""
+    lines = [f"Fit of bat {s['bat']} to weight, balance point and MOI ({s['n_evaluations']} "
+             f"evaluations, {'converged' if s['success'] else 'NOT converged'})"]  # fmt: skip
+    for name, p in s["parameters"].items():
+        lines.append(f"  {name:<28} {p['initial']} -> {p['fitted']}")
+    for key, value in s["properties"].items():
+        lines.append(f"  {key:<28} {value:.5g}   (target {s['targets'][key]:.5g})")
+    if not s["matched"]:
+        bounds = ", ".join(s["at_lower_bound"]) or "none"
+        lines.append(f"  targets NOT met; parameters at their lower bound: {bounds}")
+    return "\n".join(lines)
 
 
 def impact_setup(args: argparse.Namespace) -> Any:

@@ -1,0 +1,87 @@
+"""The bat commands as a user meets them: props JSON keys and run folder, fit-bat, errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import tomli_w
+
+from batball.cli import main
+from batball.specs import bat_spec_to_toml_dict, load_bat_spec
+
+COARSE = ["--circumferential", "12", "--axial-size", "0.5 in"]
+PROPS_KEYS = {"weight_oz", "balance_point_in", "moi_pivot_oz_in2", "moi_cm_oz_in2", "n_shells",
+              "wall_seconds"}  # fmt: skip
+
+
+def run_cli(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
+    code = main(args)
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_props_json_has_the_keys_and_writes_the_run_folder(tmp_path: Path, capsys) -> None:
+    args = ["props", "--bat", "default", "--json", "--runs-dir", str(tmp_path), *COARSE]
+    code, out, _ = run_cli(args, capsys)
+    assert code == 0
+    summary = json.loads(out)
+    assert summary.keys() >= PROPS_KEYS
+    assert 21.5 < summary["weight_oz"] < 22.7  # coarse mesh, near Table 1's 22.1 oz
+    folder = Path(summary["run_folder"])
+    assert folder.name.startswith("props-")
+    for name in ("summary.json", "bat.png", "bat.toml"):
+        assert (folder / name).is_file(), name
+    again = json.loads(run_cli(args, capsys)[1])  # same inputs: reused
+    assert again["wall_seconds"] == summary["wall_seconds"]
+
+
+def test_props_text_report_names_units(tmp_path: Path, capsys) -> None:
+    code, out, _ = run_cli(["props", "--runs-dir", str(tmp_path), *COARSE], capsys)
+    assert code == 0
+    assert "oz*in^2" in out and "balance point" in out
+
+
+def test_props_axial_size_without_unit_names_the_field(tmp_path: Path, capsys) -> None:
+    code, _, err = run_cli(["props", "--axial-size", "0.1", "--runs-dir", str(tmp_path)], capsys)
+    assert code == 2
+    assert err.startswith("batball: error: axial-size:") and len(err.strip().splitlines()) == 1
+
+
+def test_props_bad_bat_file_names_the_field(tmp_path: Path, capsys) -> None:
+    document = bat_spec_to_toml_dict(load_bat_spec("default"))
+    document["parts"][4]["layup"][2]["thickness"] = "-0.01 in"
+    path = tmp_path / "bad.toml"
+    path.write_text(tomli_w.dumps(document))
+    code, _, err = run_cli(["props", "--bat", str(path), "--runs-dir", str(tmp_path)], capsys)
+    assert code == 2
+    assert "parts[4].layup[2].thickness" in err
+
+
+def test_fit_bat_matches_the_targets_and_writes_a_bat(tmp_path: Path, capsys) -> None:
+    output = tmp_path / "fitted.toml"
+    args = ["fit-bat", "--weight", "22.5 oz", "--json", "--output", str(output), *COARSE]
+    code, out, _ = run_cli(args, capsys)
+    assert code == 0
+    summary = json.loads(out)
+    assert summary["matched"] is True
+    assert summary["properties"]["weight_oz"] == pytest.approx(22.5, rel=1e-6)
+    assert summary["properties"]["balance_point_in"] == pytest.approx(21.0, rel=1e-6)
+    assert set(summary["parameters"]) == {
+        "lumped_mass:endcap", "thickness:handle-glass", "thickness:barrel-carbon"
+    }  # fmt: skip
+    assert load_bat_spec(output).part("endcap").lumped_mass > 0.0
+
+
+def test_fit_bat_unknown_parameter_names_the_field(capsys) -> None:
+    code, _, err = run_cli(["fit-bat", "--free", "thickness:nothing", *COARSE], capsys)
+    assert code == 2
+    assert "free" in err
+
+
+def test_fit_bat_out_of_reach_says_so_and_exits_1(capsys) -> None:
+    # 23 oz at the same BP and MOI needs a negative end-cap mass
+    code, out, _ = run_cli(["fit-bat", "--weight", "23 oz", *COARSE], capsys)
+    assert code == 1
+    assert "NOT met" in out and "lumped_mass:endcap" in out
