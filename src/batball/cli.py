@@ -60,6 +60,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_impact_parser(sub, "cor", "COR against a rigid flat wall (ASTM F1887)")
     add_props_parser(sub)
     add_fit_bat_parser(sub)
+    add_modal_parser(sub)
     return parser
 
 
@@ -87,6 +88,17 @@ def add_props_parser(sub: Any) -> None:
     p.add_argument("--runs-dir", type=Path, default=Path("runs"), help="results store (runs/)")
     p.add_argument("--no-reuse", action="store_true", help="run even if the same run is stored")
     p.set_defaults(handler=run_props_command)
+
+
+def add_modal_parser(sub: Any) -> None:
+    """``batball modal``: free-free bending and hoop frequencies of a bat (seed Table 3)."""
+    help_text = "free-free modes of a bat: first two bending and hoop frequencies (seed Table 3)"
+    p = sub.add_parser("modal", help=help_text, description=help_text)
+    add_bat_mesh_options(p)
+    p.add_argument("--modes", type=int, default=30, help="modes to compute (default 30)")
+    p.add_argument("--runs-dir", type=Path, default=Path("runs"), help="results store (runs/)")
+    p.add_argument("--no-reuse", action="store_true", help="run even if the same run is stored")
+    p.set_defaults(handler=run_modal_command)
 
 
 def add_fit_bat_parser(sub: Any) -> None:
@@ -138,6 +150,42 @@ def run_props_command(args: argparse.Namespace) -> int:
     else:
         print(describe_props(summary))
     return 0
+
+
+def run_modal_command(args: argparse.Namespace) -> int:
+    """``batball modal`` (the pivot option is accepted and unused)."""
+    from batball.lab.modal_run import run_modal_test
+    from batball.specs import load_bat_spec
+
+    if args.modes < 8:
+        raise SpecError("modes", args.modes, "an integer >= 8 (six rigid-body modes come first)")
+    spec = load_bat_spec(args.bat)
+    options = bat_mesh_options(args)
+    summary, _ = run_modal_test(
+        spec, runs_dir=args.runs_dir, reuse=not args.no_reuse, n_modes=args.modes,
+        circumferential=options["circumferential"], axial_size=options["axial_size"],
+    )  # fmt: skip
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(describe_modal(summary))
+    return 0
+
+
+def describe_modal(s: dict[str, Any]) -> str:
+    """A short human report of a modal summary beside the seed's Table 3."""
+    table = s["seed_table3"]
+    lines = [f"Free-free modes of bat {s['bat']} (insert {s['insert']})",
+             f"  {'':<10} {'batball':>16} {'experiment':>16} {'seed LS-DYNA':>16}"]  # fmt: skip
+    for key, name in (("bending_hz", "bending"), ("hoop_hz", "hoop")):
+        ours = ", ".join(f"{f:.0f}" for f in s[key])
+        exp = ", ".join(f"{f:.0f}" for f in table[key]["experiment"])
+        dyna = ", ".join(f"{f:.0f}" for f in table[key]["seed_lsdyna"])
+        lines.append(f"  {name + ' Hz':<10} {ours:>16} {exp:>16} {dyna:>16}")
+    lines.append(f"  {s['n_modes']} modes ({s['n_rigid']} rigid), {s['n_shells']} shells, "
+                 f"{s['wall_seconds']:.1f} s")  # fmt: skip
+    lines.append(f"  results in {s['run_folder']}")
+    return "\n".join(lines)
 
 
 def describe_props(s: dict[str, Any]) -> str:

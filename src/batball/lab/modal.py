@@ -1,0 +1,201 @@
+"""The bat's free-free modal test (physics.md section 5.3; seed "Modal Analysis", Table 3).
+
+The bat's shells (MITC4, :mod:`batball.elements.shell_stiffness`) with each part's laminate and
+lumped mass; the 30 lowest modes by shift-invert Lanczos (:mod:`batball.solvers.modal`).
+
+**The insert is bonded to the barrel.** The interference-fit contact and its pre-stress do not
+exist yet, so each insert node is tied rigidly to the barrel wall: its displacement is the barrel's
+(linearly interpolated between the two nearest barrel rings at the same angle) plus the barrel
+rotation times the radial offset between the two mid-surfaces, and its rotation the barrel's.
+This is the "bonded" bound of physics.md section 7.3: stiffer in hoop than the seed's fitted
+double wall.
+
+Mode labels come from the shapes of the outer wall (the nodes sit on rings of ``circumferential``
+nodes at angles phi_j = 2 pi j / circumferential):
+
+* ``bending``: cross-sections translate rigidly; the share of the outer wall's translational
+  "energy" sum |u|^2 carried by the ring-mean lateral translation (u_y, u_z) exceeds one half.
+* ``hoop``: ovalling of the barrel; the share carried by the cos 2 phi and sin 2 phi content of the
+  radial displacement on the barrel rings (radius >= 95 % of the largest) exceeds one third.
+* ``rigid`` for the six near-zero modes; ``other`` for the rest (torsion, axial, n >= 3 shell).
+
+Degenerate pairs (the same frequency in two planes) count once: "first" and "second" bending and
+hoop are the first two distinct frequencies (more than 1 % apart), as the seed reports them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from batball.elements.shell_stiffness import (
+    ShellSection,
+    assemble_shell_mass,
+    assemble_shell_stiffness,
+    shell_section,
+)
+from batball.lab.props import bat_areal_mass
+from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL, make_bat_mesh
+from batball.mesh.shell import ShellMesh
+from batball.solvers.modal import ModalResult, free_free_modes
+from batball.specs.bat import BatSpec
+
+BENDING_SHARE = 0.5
+HOOP_SHARE = 1.0 / 3.0
+#: Frequencies closer than this (relative) are one degenerate pair.
+DISTINCT = 0.01
+
+
+@dataclass(frozen=True)
+class BatModes:
+    """The bat's free-free modes with labels.
+
+    Attributes:
+        frequencies: (n_modes,), Hz, ascending, rigid-body modes first.
+        labels: (n_modes,) ``"rigid"``, ``"bending"``, ``"hoop"`` or ``"other"``.
+        bending_share: share of the outer wall's sum |u|^2 in rigid section translation, (n_modes,).
+        hoop_share: share in n = 2 radial ovalling of the barrel, (n_modes,).
+        shapes: mode shapes on all nodes, (n_points, 6, n_modes): u (m) and theta (rad) per unit
+            modal mass.
+        mesh: the shells the modes live on.
+    """
+
+    frequencies: np.ndarray
+    labels: tuple[str, ...]
+    bending_share: np.ndarray
+    hoop_share: np.ndarray
+    shapes: np.ndarray
+    mesh: ShellMesh
+
+    def first(self, label: str, count: int = 2) -> list[int]:
+        """Indices of the first ``count`` distinct-frequency modes with ``label``."""
+        chosen: list[int] = []
+        for index in np.flatnonzero(np.array(self.labels) == label):
+            f = self.frequencies[index]
+            if all(abs(f - self.frequencies[c]) > DISTINCT * f for c in chosen):
+                chosen.append(int(index))
+        return chosen[:count]
+
+
+def bat_section(spec: BatSpec, mesh: ShellMesh) -> ShellSection:
+    """Per-cell section of a bat mesh: each part's (and the insert's) laminate plus lumped mass."""
+    layups = [part.layup for part in spec.parts]
+    cell_laminate = np.full(mesh.n_cells, -1, dtype=np.int64)
+    for k, part in enumerate(spec.parts):
+        cell_laminate[mesh.cell_sets[part.name]] = k
+    if spec.insert is not None:
+        layups.append(spec.insert.layup)
+        cell_laminate[mesh.cell_sets["insert"]] = len(layups) - 1
+    laminates = [spec.laminate(layup) for layup in layups]
+    structural = np.array([lam.areal_mass for lam in laminates])[cell_laminate]
+    extra = bat_areal_mass(spec, mesh) - structural
+    return shell_section(laminates, cell_laminate, extra_areal_mass=extra)
+
+
+def skew(vectors: np.ndarray) -> np.ndarray:
+    """Cross-product matrices [d]x with [d]x a = d x a, (n, 3, 3) from (n, 3)."""
+    out = np.zeros((vectors.shape[0], 3, 3))
+    out[:, 0, 1], out[:, 0, 2] = -vectors[:, 2], vectors[:, 1]
+    out[:, 1, 0], out[:, 1, 2] = vectors[:, 2], -vectors[:, 0]
+    out[:, 2, 0], out[:, 2, 1] = -vectors[:, 1], vectors[:, 0]
+    return out
+
+
+def insert_tie(mesh: ShellMesh, circumferential: int) -> sp.csr_matrix:
+    """T with u_all = T u_outer: insert nodes rigidly tied to the barrel (see module docs).
+
+    Returns:
+        (6 n_points, 6 n_outer) sparse; the outer nodes are the first n_outer and map to themselves.
+    """
+    n_outer = mesh.point_sets["outer"].size
+    inserted = mesh.point_sets["insert"]
+    ring_x = mesh.points[:n_outer:circumferential, 0]
+    x = mesh.points[inserted, 0]
+    j = (inserted - n_outer) % circumferential
+    ring = np.clip(np.searchsorted(ring_x, x, side="right") - 1, 0, ring_x.size - 2)
+    weight = np.clip((x - ring_x[ring]) / (ring_x[ring + 1] - ring_x[ring]), 0.0, 1.0)
+    rows, cols, values = [], [], []
+    for anchor_ring, w in ((ring, 1.0 - weight), (ring + 1, weight)):
+        anchor = anchor_ring * circumferential + j
+        block = np.zeros((inserted.size, 6, 6))
+        block[:, :3, :3] = block[:, 3:, 3:] = np.eye(3)
+        block[:, :3, 3:] = -skew(mesh.points[inserted] - mesh.points[anchor])
+        block *= w[:, None, None]
+        row_dofs, col_dofs = (
+            6 * inserted[:, None] + np.arange(6),
+            6 * anchor[:, None] + np.arange(6),
+        )
+        rows.append(np.broadcast_to(row_dofs[:, :, None], block.shape))
+        cols.append(np.broadcast_to(col_dofs[:, None, :], block.shape))
+        values.append(block)
+    n_dofs = 6 * n_outer
+    identity = np.arange(n_dofs)
+    tie = sp.coo_matrix(
+        (np.concatenate([np.ones(n_dofs)] + [v.ravel() for v in values]),
+         (np.concatenate([identity] + [r.ravel() for r in rows]),
+          np.concatenate([identity] + [c.ravel() for c in cols]))),
+        shape=(6 * mesh.n_points, n_dofs),
+    )  # fmt: skip
+    return tie.tocsr()
+
+
+def shape_shares(
+    mesh: ShellMesh, shapes: np.ndarray, circumferential: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Bending and hoop shares of each mode (module docs), each (n_modes,)."""
+    n_outer = mesh.point_sets["outer"].size
+    n_rings = n_outer // circumferential
+    u = shapes[:n_outer, :3].reshape(n_rings, circumferential, 3, -1)
+    total = np.einsum("rjkm,rjkm->m", u, u)
+    lateral = u[:, :, 1:].mean(axis=1)  # (rings, 2, modes)
+    bending = circumferential * np.einsum("rkm,rkm->m", lateral, lateral) / total
+    points = mesh.points[:n_outer].reshape(n_rings, circumferential, 3)
+    phi = np.arctan2(points[0, :, 2], points[0, :, 1])
+    radial = u[:, :, 1] * np.cos(phi)[None, :, None] + u[:, :, 2] * np.sin(phi)[None, :, None]
+    radius = np.hypot(points[:, 0, 1], points[:, 0, 2])
+    barrel = radius >= 0.95 * radius.max()
+    c2 = 2.0 / circumferential * np.einsum("rjm,j->rm", radial[barrel], np.cos(2 * phi))
+    s2 = 2.0 / circumferential * np.einsum("rjm,j->rm", radial[barrel], np.sin(2 * phi))
+    hoop = 0.5 * circumferential * np.sum(c2**2 + s2**2, axis=0) / total
+    return bending, hoop
+
+
+def label_modes(result: ModalResult, bending: np.ndarray, hoop: np.ndarray) -> tuple[str, ...]:
+    """``rigid``, ``bending``, ``hoop`` or ``other`` for each mode."""
+    labels = np.where(bending > BENDING_SHARE, "bending",
+                      np.where(hoop > HOOP_SHARE, "hoop", "other"))  # fmt: skip
+    labels = np.where(result.rigid, "rigid", labels)
+    return tuple(str(label) for label in labels)
+
+
+def bat_modes(
+    spec: BatSpec,
+    *,
+    circumferential: int = DEFAULT_CIRCUMFERENTIAL,
+    axial_size: float = DEFAULT_AXIAL_SIZE,
+    n_modes: int = 30,
+) -> BatModes:
+    """Free-free modes of a bat (insert bonded), labelled.
+
+    Args:
+        spec: the bat.
+        circumferential: shells around the circumference.
+        axial_size: largest shell length along the bat, m.
+        n_modes: modes to compute, the six rigid-body modes included.
+    """
+    mesh = make_bat_mesh(spec, circumferential=circumferential, axial_size=axial_size)
+    section = bat_section(spec, mesh)
+    stiffness = assemble_shell_stiffness(mesh, section)
+    mass = assemble_shell_mass(mesh, section)
+    if "insert" in mesh.point_sets:
+        tie = insert_tie(mesh, circumferential)
+        stiffness, mass = tie.T @ stiffness @ tie, tie.T @ mass @ tie
+    else:
+        tie = sp.identity(6 * mesh.n_points, format="csr")
+    result = free_free_modes(stiffness, mass, n_modes=n_modes, shift_hz=10.0)
+    shapes = np.asarray(tie @ result.shapes).reshape(mesh.n_points, 6, n_modes)
+    bending, hoop = shape_shares(mesh, shapes, circumferential)
+    labels = label_modes(result, bending, hoop)
+    return BatModes(result.frequencies, labels, bending, hoop, shapes, mesh)

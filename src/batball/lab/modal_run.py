@@ -1,0 +1,116 @@
+"""Run the bat's free-free modal test into the results store, summarised with units.
+
+``runs/modal-<hash>/`` holds ``summary.json`` (every mode's frequency and label, the first two
+bending and hoop frequencies beside the seed's Table 3), ``modes.png`` (the four picked shapes)
+and ``modes.vtu`` (all mode shapes as point data, for ParaView). Runs with the same inputs are
+reused.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from batball import __version__
+from batball.io.store import atomic_path, load_cached_summary, run_folder, write_summary
+from batball.lab.modal import BatModes, bat_modes
+from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
+from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
+
+#: Seed Table 3 (Hz): experiment and the seed's LS-DYNA model.
+SEED_TABLE3 = {
+    "bending_hz": {"experiment": [146.0, 555.0], "seed_lsdyna": [126.0, 468.0]},
+    "hoop_hz": {"experiment": [1450.0, 1950.0], "seed_lsdyna": [1406.0, 2086.0]},
+}
+
+
+def summarise_modes(spec: BatSpec, modes: BatModes, wall_seconds: float) -> dict[str, Any]:
+    """The summary a person reads: each number's unit is in its key."""
+    bending, hoop = modes.first("bending"), modes.first("hoop")
+    return {
+        "test": "modal",
+        "bat": spec.name,
+        "insert": "bonded to the barrel (interference-fit contact not modelled)",
+        "bending_hz": [float(modes.frequencies[i]) for i in bending],
+        "hoop_hz": [float(modes.frequencies[i]) for i in hoop],
+        "seed_table3": SEED_TABLE3,
+        "n_modes": int(modes.frequencies.size),
+        "n_rigid": int(sum(label == "rigid" for label in modes.labels)),
+        "frequencies_hz": [float(f) for f in modes.frequencies],
+        "labels": list(modes.labels),
+        "n_shells": modes.mesh.n_cells,
+        "n_points": modes.mesh.n_points,
+        "wall_seconds": wall_seconds,
+    }
+
+
+def write_vtu(path: Path, modes: BatModes) -> None:
+    """All mode shapes as VTK point data ``mode_<k>_<f>Hz`` (displacement, 3 components)."""
+    import meshio
+
+    data = {f"mode_{k:02d}_{f:.0f}Hz": modes.shapes[:, :3, k]
+            for k, f in enumerate(modes.frequencies)}  # fmt: skip
+    mesh = meshio.Mesh(modes.mesh.points, [("quad", modes.mesh.cells)], point_data=data)
+    with atomic_path(path) as tmp:
+        meshio.write(tmp, mesh, file_format="vtu")
+
+
+def plot_modes(path: Path, modes: BatModes) -> None:
+    """The four picked shapes: deformed outer wall seen from the side (x-y), with the frequency."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    picked = [("bending", i) for i in modes.first("bending")] + [
+        ("hoop", i) for i in modes.first("hoop")
+    ]
+    n_outer = modes.mesh.point_sets["outer"].size
+    points = modes.mesh.points[:n_outer]
+    fig, axes = plt.subplots(len(picked), 1, figsize=(9, 2.2 * len(picked)), squeeze=False)
+    for ax, (label, index) in zip(axes[:, 0], picked, strict=True):
+        u = modes.shapes[:n_outer, :3, index]
+        deformed = points + 0.1 * u / np.abs(u).max()  # 0.1 m peak displacement
+        ax.scatter(deformed[:, 0] / 0.0254, deformed[:, 1] / 0.0254, s=0.2, c="tab:red")
+        ax.scatter(points[:, 0] / 0.0254, points[:, 1] / 0.0254, s=0.1, c="0.7")
+        ax.set_title(f"{label} {modes.frequencies[index]:.0f} Hz")
+        ax.set_ylabel("y (in)")
+    axes[-1, 0].set_xlabel("x from the knob end (in)")
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+
+
+def run_modal_test(
+    spec: BatSpec,
+    *,
+    runs_dir: Path,
+    circumferential: int = DEFAULT_CIRCUMFERENTIAL,
+    axial_size: float = DEFAULT_AXIAL_SIZE,
+    n_modes: int = 30,
+    reuse: bool = True,
+) -> tuple[dict[str, Any], Path]:
+    """Compute (or reuse) a bat's free-free modes; returns the summary and the run folder."""
+    inputs = {
+        "bat": bat_spec_to_toml_dict(spec),
+        "mesh": {"circumferential": circumferential, "axial_size_m": axial_size},
+        "n_modes": n_modes,
+        "batball": __version__,
+    }
+    folder = run_folder(runs_dir, "modal", inputs)
+    cached = load_cached_summary(folder) if reuse else None
+    if cached is not None:
+        return cached, folder
+    start = time.perf_counter()
+    modes = bat_modes(spec, circumferential=circumferential, axial_size=axial_size,
+                      n_modes=n_modes)  # fmt: skip
+    summary = summarise_modes(spec, modes, time.perf_counter() - start)
+    summary["run_folder"] = folder.as_posix()
+    plot_modes(folder / "modes.png", modes)
+    write_vtu(folder / "modes.vtu", modes)
+    write_summary(folder, summary)
+    return summary, folder
