@@ -174,3 +174,118 @@ def volume_derivatives_batch(
                 xe[3 * a + i] = points[cells[e, a], i]
         volumes[e] = volume_derivatives(xe, b_all[e])
     return b_all.reshape((n_cells, 8, 3)), volumes
+
+
+# --- modal form: the same exact volume and derivatives, written on the corner-sign modes ----------
+#
+# With X_k = sum_a H_ka x_a over the corners, H_k the signs of the modes k = 1..7 (xi, eta, zeta,
+# eta zeta, zeta xi, xi eta, xi eta zeta; rows 0..2 of HOURGLASS_BASE are modes 4..6 and row 3 is
+# mode 7), the trilinear map is x = (1/8) sum_k X_k phi_k and the exact volume is
+#   V = (1/64) ([X1, X2, X3] + ([X1, X6, X5] + [X6, X2, X4] + [X5, X4, X3]) / 3),
+# ([a, b, c] = a . (b x c); the xi eta zeta mode drops out), so dV/dx_a = sum_k H_ka G_k with
+# G_k = dV/dX_k. Sharing the cross products makes this about half the work of the node-wise form.
+
+#: A 3-vector as a tuple (x, y, z), so that it lives in registers inside Numba loops.
+Vector = tuple[float, float, float]
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def modal_sums(
+    c0: float, c1: float, c2: float, c3: float, c4: float, c5: float, c6: float, c7: float
+) -> tuple[float, ...]:
+    """Butterfly sums sum_a H_ka c_a of one coordinate for the modes k = 1..7 (a 7-tuple)."""
+    p0, m0 = c1 + c0, c1 - c0  # eta -, zeta -
+    p1, m1 = c2 + c3, c2 - c3  # eta +, zeta -
+    p2, m2 = c5 + c4, c5 - c4  # eta -, zeta +
+    p3, m3 = c6 + c7, c6 - c7  # eta +, zeta +
+    pp0, pm0, pp1, pm1 = p0 + p1, p1 - p0, p2 + p3, p3 - p2
+    mp0, mm0, mp1, mm1 = m0 + m1, m1 - m0, m2 + m3, m3 - m2
+    return (mp0 + mp1, pm0 + pm1, pp1 - pp0, pm1 - pm0, mp1 - mp0, mm0 + mm1, mm1 - mm0)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def nodal_sums(
+    f1: float, f2: float, f3: float, f4: float, f5: float, f6: float, f7: float
+) -> tuple[float, ...]:
+    """The transpose of :func:`modal_sums`: sum_k H_ka F_k at the eight corners (an 8-tuple)."""
+    a_lo, bx_lo, by_lo, c_lo = -f3, f1 - f5, f2 - f4, f6 - f7  # zeta -
+    a_hi, bx_hi, by_hi, c_hi = f3, f1 + f5, f2 + f4, f6 + f7  # zeta +
+    p_lo_m, q_lo_m, p_lo_p, q_lo_p = a_lo - by_lo, bx_lo - c_lo, a_lo + by_lo, bx_lo + c_lo
+    p_hi_m, q_hi_m, p_hi_p, q_hi_p = a_hi - by_hi, bx_hi - c_hi, a_hi + by_hi, bx_hi + c_hi
+    return (
+        p_lo_m - q_lo_m,
+        p_lo_m + q_lo_m,
+        p_lo_p + q_lo_p,
+        p_lo_p - q_lo_p,
+        p_hi_m - q_hi_m,
+        p_hi_m + q_hi_m,
+        p_hi_p + q_hi_p,
+        p_hi_p - q_hi_p,
+    )
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def cross(a: Vector, b: Vector) -> Vector:
+    """a x b of two 3-tuples."""
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def dot(a: Vector, b: Vector) -> float:
+    """a . b of two 3-tuples."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _combine(a: Vector, b: Vector, wa: float, wb: float) -> Vector:
+    """wa a + wb b of two 3-tuples."""
+    return (wa * a[0] + wb * b[0], wa * a[1] + wb * b[1], wa * a[2] + wb * b[2])
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def modal_volume_gradient(
+    x1: Vector, x2: Vector, x3: Vector, x4: Vector, x5: Vector, x6: Vector
+) -> tuple[Vector, Vector, Vector, Vector, Vector, Vector, float]:
+    """G_k = dV/dX_k (k = 1..6, 3-tuples, m^2) and the exact volume V (m^3) from modal sums."""
+    c23, c31, c12 = cross(x2, x3), cross(x3, x1), cross(x1, x2)
+    c65, c46, c54 = cross(x6, x5), cross(x4, x6), cross(x5, x4)
+    c62, c35, c16 = cross(x6, x2), cross(x3, x5), cross(x1, x6)
+    c43, c51, c24 = cross(x4, x3), cross(x5, x1), cross(x2, x4)
+    main, side = 1.0 / 64.0, 1.0 / 192.0
+    volume = main * dot(x1, c23) + side * (dot(x5, c16) + dot(x4, c62) + dot(x4, c35))
+    return (
+        _combine(c23, c65, main, side),
+        _combine(c31, c46, main, side),
+        _combine(c12, c54, main, side),
+        _combine(c62, c35, side, side),
+        _combine(c16, c43, side, side),
+        _combine(c51, c24, side, side),
+        volume,
+    )
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _face_area_squared(a: Vector, b: Vector, c: Vector, d: Vector, sign: float) -> float:
+    """|(a + sign b) x (c + sign d)|^2 for 3-tuples: (16 x the area of one face)^2."""
+    n = cross(_combine(a, b, 1.0, sign), _combine(c, d, 1.0, sign))
+    return dot(n, n)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def modal_largest_face_area(
+    x1: Vector, x2: Vector, x3: Vector, x4: Vector, x5: Vector, x6: Vector
+) -> float:
+    """Largest face area (m^2) from modal sums; each is |d13 x d24| / 2 (:func:`largest_face_area`).
+
+    On the face zeta = -/+1, x = (1/8) (X0 -/+ X3 + (X1 -/+ X5) xi + (X2 -/+ X4) eta + ...), so its
+    area is |(X1 -/+ X5) x (X2 -/+ X4)| / 16; the faces xi = -/+1 and eta = -/+1 alike.
+    """
+    largest = max(
+        _face_area_squared(x1, x5, x2, x4, -1.0),
+        _face_area_squared(x1, x5, x2, x4, 1.0),
+        _face_area_squared(x2, x6, x3, x5, -1.0),
+        _face_area_squared(x2, x6, x3, x5, 1.0),
+        _face_area_squared(x1, x6, x3, x4, -1.0),
+        _face_area_squared(x1, x6, x3, x4, 1.0),
+    )
+    return np.sqrt(largest) * (1.0 / 16.0)

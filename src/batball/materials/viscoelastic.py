@@ -105,6 +105,25 @@ def relaxation_factor(beta_dt: float) -> float:
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
+def viscoelastic_step_factors(
+    g0: float, g_inf: float, beta: float, dt: float
+) -> tuple[float, float]:
+    """The per-step factors of the recursion: decay exp(-beta dt) and the relaxing-branch modulus
+    2 (G0 - G_inf) (1 - exp(-beta dt)) / (beta dt) [Pa]; the same for every point of a material."""
+    decay = np.exp(-beta * dt)
+    scale = 2.0 * (g0 - g_inf) * relaxation_factor(beta * dt)
+    return decay, scale
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def advance_viscoelastic_component(
+    s_inf: float, h: float, de: float, two_g_inf: float, decay: float, scale: float
+) -> tuple[float, float]:
+    """One stress component's step: (s_inf + 2 G_inf de, decay h + scale de) [Pa]."""
+    return s_inf + two_g_inf * de, decay * h + scale * de
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
 def update_viscoelastic_deviator(
     s_inf: np.ndarray,
     h: np.ndarray,
@@ -125,11 +144,11 @@ def update_viscoelastic_deviator(
         g0, g_inf: short- and long-time shear moduli [Pa]; beta: decay constant [1/s].
         dt: the step [s].
     """
-    decay = np.exp(-beta * dt)
-    scale = 2.0 * (g0 - g_inf) * relaxation_factor(beta * dt)
+    decay, scale = viscoelastic_step_factors(g0, g_inf, beta, dt)
     for c in range(6):
-        s_inf[c] += 2.0 * g_inf * de[c]
-        h[c] = decay * h[c] + scale * de[c]
+        s_inf[c], h[c] = advance_viscoelastic_component(
+            s_inf[c], h[c], de[c], 2.0 * g_inf, decay, scale
+        )
 
 
 @nb.njit(cache=True)

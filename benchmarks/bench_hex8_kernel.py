@@ -1,0 +1,83 @@
+"""Hex8 force kernel alone: element-cycles per second on the 12,096-hex ball.
+
+Builds the type 1, 95 mph CCOR model, runs a few dozen explicit cycles so that the stresses and
+hourglass forces are non-trivial, then times ``compute_hex8_forces`` alone (after a warm-up call;
+the median and the best of several repeats) with 1 thread and with 2 (or every) threads. Usage:
+
+    python benchmarks/bench_hex8_kernel.py [--hourglass 1] [--cycles 50] [--calls 50] [--repeats 11]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from collections.abc import Callable
+
+import numba
+
+from batball.elements.hex8 import compute_hex8_forces
+from batball.lab.impact import MPH, ImpactSetup, build_impact_model
+from batball.solvers.explicit import ExplicitControls, ExplicitSolver, HourglassControl
+from batball.specs import load_ball_spec
+
+
+def loaded_solver(hourglass: int, cycles: int) -> ExplicitSolver:
+    """The 95 mph CCOR solver after ``cycles`` explicit cycles."""
+    setup = ImpactSetup(test="ccor", speed=95 * MPH, divisions=12)  # 12,096 hexes
+    model = build_impact_model(load_ball_spec("type1"), setup)
+    controls = ExplicitControls(end_time=1e-3, hourglass=HourglassControl(type=hourglass))
+    solver = ExplicitSolver(model, controls)
+    for _ in range(cycles):
+        solver.cycle()
+    return solver
+
+
+def kernel_call(solver: ExplicitSolver) -> Callable[[], None]:
+    """One call of the kernel on the solver's arrays (as ``ExplicitSolver.element_forces``)."""
+    s, w, m, c = solver.state, solver.work, solver.model, solver.controls.hourglass
+
+    def call() -> None:
+        compute_hex8_forces(
+            s.points, s.velocities, m.mesh.cells, s.dt, m.cell_material, m.material_constants,
+            m.densities, w.volume0, s.s_inf, s.h, s.pressure, s.hg_state, c.type, c.coefficient,
+            w.q1, w.q2, w.cell_forces, w.cell_volume, w.cell_dt, w.energy_increments,
+        )  # fmt: skip
+
+    return call
+
+
+def seconds_per_call(call: Callable[[], None], calls: int, repeats: int) -> list[float]:
+    """Mean wall time of ``calls`` back-to-back calls, ``repeats`` times [s]."""
+    call()  # warm-up (and compilation)
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for _ in range(calls):
+            call()
+        times.append((time.perf_counter() - start) / calls)
+    return times
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--hourglass", type=int, default=1, help="LS-DYNA IHQ (1, 2 or 4)")
+    parser.add_argument("--cycles", type=int, default=50)
+    parser.add_argument("--calls", type=int, default=50)
+    parser.add_argument("--repeats", type=int, default=11)
+    args = parser.parse_args()
+    solver = loaded_solver(args.hourglass, args.cycles)
+    n_cells = solver.model.mesh.n_cells
+    call = kernel_call(solver)
+    for threads in sorted({1, min(2, numba.config.NUMBA_NUM_THREADS), numba.get_num_threads()}):
+        numba.set_num_threads(threads)
+        times = seconds_per_call(call, args.calls, args.repeats)
+        median, best = statistics.median(times), min(times)
+        print(f"IHQ {args.hourglass}, threads {threads}: {n_cells} hexes, {median * 1e3:.3f} ms "
+              f"per call (median of {args.repeats} x {args.calls} calls): "
+              f"{n_cells / median / 1e6:.2f} M element-cycles/s "
+              f"(best {n_cells / best / 1e6:.2f})")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,308 @@
+"""Stages of the hex8 force kernel over a block of ``BLOCK`` elements, SIMD across the elements.
+
+Each block's data lives in one scratch vector ``w`` in structure-of-arrays form: row r (of
+``N_ROWS``) holds a quantity for the block's elements at ``w[r * BLOCK + e]``. A block is gathered
+from the mesh and state arrays, advanced by one loop over its elements ``e`` whose body is
+straight-line arithmetic on scalars and tuples (``hex8_kinematics``, ``hex8_response``), which
+LLVM vectorises, and scattered back. Keeping all rows in one array, a constant ``BLOCK`` apart,
+lets LLVM prove that the rows do not overlap.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+from batball.elements.hex8_geometry import Vector, modal_sums
+from batball.elements.hex8_kinematics import Modes, Voigt, element_kinematics
+from batball.elements.hex8_response import element_response
+from batball.materials.viscoelastic import viscoelastic_step_factors
+from batball.numerics import FASTMATH
+
+#: Elements per block: a multiple of the SIMD width whose scratch (N_ROWS rows) stays in L1.
+BLOCK = 16
+
+# Rows of the block scratch (each BLOCK wide).
+R_X = 0  # 24 node coordinates x^n [m] (node-major), then the 24 nodal forces [N]
+R_V = 24  # 24 node velocities v^(n-1/2) [m/s]
+R_S = 48  # 6 s_inf [Pa]
+R_H = 54  # 6 h [Pa]
+R_HG = 60  # 12 hourglass forces of the stiffness form [N] (mode-major)
+R_P = 72  # pressure [Pa]
+R_V0 = 73  # initial volume [m^3]
+R_MAT = 74  # 6 material factors, the columns of material_factors()
+R_VOL = 80  # volume [m^3]
+R_DT = 81  # stable step [s]
+N_ROWS = 82
+
+# Columns of material_factors(): density, K, K + 4/3 G0, 2 G_inf, exp(-beta dt), the relaxing
+# modulus 2 (G0 - G_inf) (1 - exp(-beta dt)) / (beta dt).
+M_RHO, M_K, M_MODULUS, M_TWO_G_INF, M_DECAY, M_SCALE = 0, 1, 2, 3, 4, 5
+
+
+@nb.njit(fastmath=FASTMATH)
+def material_factors(constants: np.ndarray, densities: np.ndarray, dt: float) -> np.ndarray:
+    """Per-material factors of one step, (n_materials, 6), columns ``M_*`` (SI units)."""
+    table = np.empty((constants.shape[0], 6))
+    for m in range(constants.shape[0]):
+        k, g0, g_inf, beta = constants[m, 0], constants[m, 1], constants[m, 2], constants[m, 3]
+        decay, scale = viscoelastic_step_factors(g0, g_inf, beta, dt)
+        table[m, M_RHO] = densities[m]
+        table[m, M_K] = k
+        table[m, M_MODULUS] = k + 4.0 / 3.0 * g0
+        table[m, M_TWO_G_INF] = 2.0 * g_inf
+        table[m, M_DECAY] = decay
+        table[m, M_SCALE] = scale
+    return table
+
+
+@nb.njit(inline="always")
+def at(row: int, e: int) -> int:
+    """Index of row ``row``, element slot ``e`` in the block scratch."""
+    return row * BLOCK + e
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def load3(w: np.ndarray, row: int, e: int) -> Vector:
+    """The 3-tuple in rows row..row+2."""
+    return (w[at(row, e)], w[at(row + 1, e)], w[at(row + 2, e)])
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def store3(w: np.ndarray, row: int, e: int, a: Vector) -> None:
+    """Write the 3-tuple ``a`` to rows row..row+2."""
+    w[at(row, e)] = a[0]
+    w[at(row + 1, e)] = a[1]
+    w[at(row + 2, e)] = a[2]
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def load6(w: np.ndarray, row: int, e: int) -> Voigt:
+    """The 6-tuple (a Voigt tensor) in rows row..row+5."""
+    a, b = load3(w, row, e), load3(w, row + 3, e)
+    return (a[0], a[1], a[2], b[0], b[1], b[2])
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def store6(w: np.ndarray, row: int, e: int, s: Voigt) -> None:
+    """Write the 6-tuple ``s`` to rows row..row+5."""
+    store3(w, row, e, (s[0], s[1], s[2]))
+    store3(w, row + 3, e, (s[3], s[4], s[5]))
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _nodal_modal_sums(w, row, e, i):
+    """Modal sums of component ``i`` of the 8 node vectors in rows row..row+23."""
+    return modal_sums(
+        w[at(row + i, e)],
+        w[at(row + 3 + i, e)],
+        w[at(row + 6 + i, e)],
+        w[at(row + 9 + i, e)],
+        w[at(row + 12 + i, e)],
+        w[at(row + 15 + i, e)],
+        w[at(row + 18 + i, e)],
+        w[at(row + 21 + i, e)],
+    )
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def load_modal_sums(w: np.ndarray, row: int, e: int) -> Modes:
+    """Modal sums X_1..X_7 (3-tuples) of the node vectors in rows row..row+23."""
+    sx = _nodal_modal_sums(w, row, e, 0)
+    sy = _nodal_modal_sums(w, row, e, 1)
+    sz = _nodal_modal_sums(w, row, e, 2)
+    return (
+        (sx[0], sy[0], sz[0]),
+        (sx[1], sy[1], sz[1]),
+        (sx[2], sy[2], sz[2]),
+        (sx[3], sy[3], sz[3]),
+        (sx[4], sy[4], sz[4]),
+        (sx[5], sy[5], sz[5]),
+        (sx[6], sy[6], sz[6]),
+    )
+
+
+# Helpers that take ``w`` are straight-line and every value is computed before the first store:
+# a branch between Numba's reference counting of ``w`` in a call stops LLVM vectorising the loop.
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _load_hourglass(w, e):
+    """The four stored hourglass forces (3-tuples) [N]."""
+    return (load3(w, R_HG, e), load3(w, R_HG + 3, e), load3(w, R_HG + 6, e), load3(w, R_HG + 9, e))
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _store_hourglass(w, e, hg):
+    """Write the four hourglass forces (3-tuples) [N]."""
+    store3(w, R_HG, e, hg[0])
+    store3(w, R_HG + 3, e, hg[1])
+    store3(w, R_HG + 6, e, hg[2])
+    store3(w, R_HG + 9, e, hg[3])
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _store_nodal(w, e, i, f):
+    """Write component i of 8 node vectors (an 8-tuple) to the rows R_X + 3 a + i."""
+    w[at(R_X + i, e)] = f[0]
+    w[at(R_X + 3 + i, e)] = f[1]
+    w[at(R_X + 6 + i, e)] = f[2]
+    w[at(R_X + 9 + i, e)] = f[3]
+    w[at(R_X + 12 + i, e)] = f[4]
+    w[at(R_X + 15 + i, e)] = f[5]
+    w[at(R_X + 18 + i, e)] = f[6]
+    w[at(R_X + 21 + i, e)] = f[7]
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _store_element(w, e, s_inf, h, pressure, forces, vol, step):
+    """Write the stresses, pressure, nodal forces (three 8-tuples), volume and stable step."""
+    store6(w, R_S, e, s_inf)
+    store6(w, R_H, e, h)
+    w[at(R_P, e)] = pressure
+    _store_nodal(w, e, 0, forces[0])
+    _store_nodal(w, e, 1, forces[1])
+    _store_nodal(w, e, 2, forces[2])
+    w[at(R_VOL, e)] = vol
+    w[at(R_DT, e)] = step
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _load_factors(w, e, first):
+    """Three consecutive material factors of slot e, from column ``first``."""
+    return (
+        w[at(R_MAT + first, e)],
+        w[at(R_MAT + first + 1, e)],
+        w[at(R_MAT + first + 2, e)],
+    )
+
+
+_NO_HOURGLASS = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+
+
+def _make_element_block(fb: bool, stiff: bool):
+    """The element loop compiled for one hourglass form (the flags are compile-time constants)."""
+
+    @nb.njit(fastmath=FASTMATH, error_model="numpy")
+    def element_block(w, n, dt, q1, q2, hg_coefficient):
+        """Advance slots 0..n-1 (SIMD across the slots); the (internal, hg, bulk) work [J]."""
+        internal = 0.0
+        hourglass = 0.0
+        bulk = 0.0
+        for e in range(n):
+            x = load_modal_sums(w, R_X, e)
+            v = load_modal_sums(w, R_V, e)
+            hg_old = _load_hourglass(w, e) if stiff else _NO_HOURGLASS
+            p_old, v0 = w[at(R_P, e)], w[at(R_V0, e)]
+            s_inf, h, trd, dev_work, vmid, g, vol = element_kinematics(
+                x, v, load6(w, R_S, e), load6(w, R_H, e), _load_factors(w, e, M_TWO_G_INF), dt
+            )
+            p, hg, forces, step, work = element_response(
+                x, v, g, s_inf, h, hg_old, (vol, v0, trd, vmid, dev_work, p_old),
+                _load_factors(w, e, M_RHO), (dt, q1, q2, hg_coefficient), fb, stiff,
+            )  # fmt: skip
+            _store_element(w, e, s_inf, h, p, forces, vol, step)
+            if stiff:
+                _store_hourglass(w, e, hg)
+            internal += work[0]
+            hourglass += work[1]
+            bulk += work[2]
+        return internal, hourglass, bulk
+
+    return element_block
+
+
+#: The element loop for LS-DYNA IHQ 1, 2/3 and 4/5.
+element_block_viscous = _make_element_block(False, False)
+element_block_fb_viscous = _make_element_block(True, False)
+element_block_fb_stiffness = _make_element_block(True, True)
+
+
+@nb.njit
+def gather_block(
+    w: np.ndarray,
+    start: int,
+    n: int,
+    mesh: tuple[np.ndarray, np.ndarray, np.ndarray],
+    volume0: np.ndarray,
+    state: tuple[np.ndarray, ...],
+    stiff: bool,
+) -> None:
+    """Rows of cells start..start+n-1: node coordinates and velocities, initial volume, stresses,
+    pressure and (``stiff``) hourglass forces.
+
+    Args:
+        mesh: (points, velocities, cells); state: (s_inf, h, pressure, hg_state), as in
+            ``compute_hex8_forces``.
+    """
+    points, velocities, cells = mesh[0], mesh[1], mesh[2][start : start + n]
+    s_inf, h = state[0][start : start + n], state[1][start : start + n]
+    pressure, hourglass = state[2][start : start + n], state[3][start : start + n]
+    volume0 = volume0[start : start + n]
+    for e in range(n):
+        for a in range(8):
+            node = cells[e, a]
+            for i in range(3):
+                w[at(R_X + 3 * a + i, e)] = points[node, i]
+                w[at(R_V + 3 * a + i, e)] = velocities[node, i]
+        for k in range(6):
+            w[at(R_S + k, e)] = s_inf[e, k]
+            w[at(R_H + k, e)] = h[e, k]
+        w[at(R_P, e)] = pressure[e]
+        w[at(R_V0, e)] = volume0[e]
+        if stiff:
+            for mode in range(4):
+                for i in range(3):
+                    w[at(R_HG + 3 * mode + i, e)] = hourglass[e, mode, i]
+
+
+@nb.njit
+def gather_material(
+    w: np.ndarray, start: int, n: int, cell_material: np.ndarray, factors: np.ndarray
+) -> None:
+    """The material factors of cells start..start+n-1 (one broadcast if they share one)."""
+    materials = cell_material[start : start + n]
+    shared = True
+    for e in range(1, n):
+        shared = shared and materials[e] == materials[0]
+    for k in range(6):
+        if shared:
+            for e in range(n):
+                w[at(R_MAT + k, e)] = factors[materials[0], k]
+        else:
+            for e in range(n):
+                w[at(R_MAT + k, e)] = factors[materials[e], k]
+
+
+@nb.njit
+def scatter_block(
+    w: np.ndarray,
+    start: int,
+    n: int,
+    state: tuple[np.ndarray, ...],
+    outputs: tuple[np.ndarray, ...],
+    stiff: bool,
+) -> None:
+    """Updated stresses, pressure and (``stiff``) hourglass forces, and the nodal forces, volumes
+    and stable steps, back to cells start..start+n-1.
+
+    Args:
+        state: (s_inf, h, pressure, hg_state); outputs: (cell_forces, cell_volume, cell_dt, ...).
+    """
+    s_inf, h = state[0][start : start + n], state[1][start : start + n]
+    pressure, hourglass = state[2][start : start + n], state[3][start : start + n]
+    forces, volume, step = (outputs[0][start : start + n], outputs[1][start : start + n],
+                            outputs[2][start : start + n])  # fmt: skip
+    for e in range(n):
+        for m in range(24):
+            forces[e, m] = w[at(R_X + m, e)]
+        for k in range(6):
+            s_inf[e, k] = w[at(R_S + k, e)]
+            h[e, k] = w[at(R_H + k, e)]
+        pressure[e] = w[at(R_P, e)]
+        volume[e] = w[at(R_VOL, e)]
+        step[e] = w[at(R_DT, e)]
+        if stiff:
+            for mode in range(4):
+                for i in range(3):
+                    hourglass[e, mode, i] = w[at(R_HG + 3 * mode + i, e)]

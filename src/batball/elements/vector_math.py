@@ -1,0 +1,132 @@
+"""ln x and x^(1/3) as straight-line arithmetic, so that loops calling them vectorise.
+
+Numba's ``np.log`` and ``np.cbrt`` are calls into the C library, which LLVM cannot vectorise
+without a vector math library; these versions split x into exponent and mantissa with bit
+operations (``float_bits``, ``bits_float``: LLVM bitcasts) and finish with polynomials and
+iterations that are accurate to a unit or two in the last place (tests/unit/elements).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import cast
+
+import numba as nb
+import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
+
+from batball.numerics import FASTMATH
+
+_MANTISSA = 0x000FFFFFFFFFFFFF
+_ONE_BITS = 0x3FF0000000000000  # bits of 1.0
+_SMALLEST_NORMAL = 2.2250738585072014e-308
+_TWO_54 = 18014398509481984.0  # scales subnormals up to normal numbers
+_SQRT2 = 1.4142135623730951
+_LN2_HI = 6.93147180369123816490e-01  # ln 2 split so that k ln2_hi is exact (fdlibm)
+_LN2_LO = 1.90821492927058770002e-10
+# fdlibm e_log.c: minimax coefficients of (ln(1+f) - f + f^2/2) in s = f / (2 + f)
+_LG1, _LG2 = 6.666666666666735130e-01, 3.999999999940941908e-01
+_LG3, _LG4 = 2.857142874366239149e-01, 2.222219843214978396e-01
+_LG5, _LG6 = 1.818357216161805012e-01, 1.531383769920937332e-01
+_LG7 = 1.479819860511658591e-01
+# bits(m^(-1/3)) ~ this - bits(m) / 3 (a first guess within 3.5 %)
+_INVERSE_CBRT_MAGIC = 0x553EF0FE047D3C00
+
+
+@intrinsic
+def _float_bits(typingctx, x):
+    """The IEEE-754 bits of a float64, as an int64."""
+    if x != types.float64:
+        return None
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.IntType(64))
+
+    return types.int64(types.float64), codegen
+
+
+@intrinsic
+def _bits_float(typingctx, bits):
+    """The float64 with the given IEEE-754 bits (an int64)."""
+    if bits != types.int64:
+        return None
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.DoubleType())
+
+    return types.float64(types.int64), codegen
+
+
+#: Typed views of the intrinsics for mypy (the same objects for Numba).
+float_bits = cast("Callable[[float], int]", _float_bits)
+bits_float = cast("Callable[[int], float]", _bits_float)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _log_special(x: float) -> float:
+    """ln x where x is not positive and finite: NaN, -inf at 0, +inf at +inf."""
+    if x == 0.0:
+        return -np.inf
+    return x if x > 0.0 else np.nan
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def log(x: float) -> float:
+    """Natural logarithm after fdlibm's e_log.c, within 2 ulp under fast-math; vectorisable.
+
+    x = 2^k m with m in [sqrt(2)/2, sqrt(2)); ln x = k ln 2 + ln(1 + f), f = m - 1.
+    """
+    tiny = x < _SMALLEST_NORMAL
+    bits = float_bits(x * _TWO_54 if tiny else x)
+    k = (bits >> 52) - (1023 + 54 if tiny else 1023)
+    m = bits_float((bits & _MANTISSA) | _ONE_BITS)  # [1, 2)
+    high = m > _SQRT2
+    m = 0.5 * m if high else m
+    dk = float(k + 1 if high else k)
+    f = m - 1.0
+    s = f / (2.0 + f)
+    z = s * s
+    w = z * z
+    t1 = w * (_LG2 + w * (_LG4 + w * _LG6))
+    t2 = z * (_LG1 + w * (_LG3 + w * (_LG5 + w * _LG7)))
+    hfsq = 0.5 * f * f
+    result = dk * _LN2_HI - ((hfsq - (s * (hfsq + t1 + t2) + dk * _LN2_LO)) - f)
+    return result if x > 0.0 and x < np.inf else _log_special(x)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _cbrt_reduced(m: float) -> float:
+    """m^(1/3) for m in [1, 8), without a division.
+
+    r = m^(-1/3) from a guess from the bits (within 3.5 %) and four Newton steps
+    r (4 - m r^3) / 3 (the error e becomes 2 e^2), then y = m r^2 polished by one Newton step.
+    """
+    r = bits_float(_INVERSE_CBRT_MAGIC - int(float(float_bits(m)) * (1.0 / 3.0)))
+    r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
+    r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
+    r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
+    r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
+    r2 = r * r
+    y = m * r2
+    return y - (y * y * y - m) * r2 * (1.0 / 3.0)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def cbrt(x: float) -> float:
+    """Real cube root, within about 1 ulp; vectorisable.
+
+    |x| = 2^(3q + r) m with r in {0, 1, 2}, so cbrt|x| = 2^q (2^r m)^(1/3) with 2^r m in [1, 8).
+    Zero, infinities and NaN pass through; negative x gives -cbrt(-x).
+    """
+    a = abs(x)
+    tiny = a < _SMALLEST_NORMAL
+    bits = float_bits(a * _TWO_54 if tiny else a)
+    e = (bits >> 52) - 1023
+    q = int(np.floor((float(e) + 0.5) * (1.0 / 3.0)))
+    m = bits_float((bits & _MANTISSA) | ((1023 + e - 3 * q) << 52))
+    scale = bits_float((q + (1023 - 18 if tiny else 1023)) << 52)  # 2^q, (2^54)^(1/3) = 2^18
+    y = _cbrt_reduced(m) * scale
+    y = y if a > 0.0 and a < np.inf else a  # 0, inf and NaN
+    return y if x >= 0.0 else (-y if x < 0.0 else x)
