@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
+from typing import ClassVar
 
 import numpy as np
 
@@ -22,16 +23,20 @@ def _frozen_sets(sets: Mapping[str, np.ndarray]) -> Mapping[str, np.ndarray]:
 
 
 @dataclass(frozen=True)
-class Mesh:
-    """An unstructured hexahedral mesh.
+class CellMesh:
+    """Points, one kind of cell, and named sets, checked and stored contiguous and read-only.
+
+    Subclasses fix the cell kind with ``NODES_PER_CELL``.
 
     Attributes:
         points: node coordinates, shape (n_points, 3), m, float64, C-contiguous.
-        cells: hex8 connectivity, shape (n_cells, 8), int64 zero-based node indices in LS-DYNA/VTK
-            order, C-contiguous.
+        cells: connectivity, shape (n_cells, NODES_PER_CELL), int64 zero-based node indices in
+            LS-DYNA/VTK order, C-contiguous.
         point_sets: named node index arrays, each shape (n,), int64.
         cell_sets: named cell index arrays, each shape (n,), int64.
     """
+
+    NODES_PER_CELL: ClassVar[int] = 0
 
     points: np.ndarray
     cells: np.ndarray
@@ -41,10 +46,11 @@ class Mesh:
     def __post_init__(self) -> None:
         points = np.ascontiguousarray(self.points, dtype=np.float64)
         cells = np.ascontiguousarray(self.cells, dtype=np.int64)
+        per_cell = self.NODES_PER_CELL
         if points.ndim != 2 or points.shape[1] != 3:
             raise ValueError(f"points must have shape (n_points, 3), got {points.shape}")
-        if cells.ndim != 2 or cells.shape[1] != 8:
-            raise ValueError(f"cells must have shape (n_cells, 8), got {cells.shape}")
+        if cells.ndim != 2 or cells.shape[1] != per_cell:
+            raise ValueError(f"cells must have shape (n_cells, {per_cell}), got {cells.shape}")
         if cells.size and (cells.min() < 0 or cells.max() >= points.shape[0]):
             raise ValueError("cells refer to nodes outside 0 .. n_points - 1")
         object.__setattr__(self, "points", points)
@@ -59,5 +65,12 @@ class Mesh:
 
     @property
     def n_cells(self) -> int:
-        """Number of hexahedra."""
+        """Number of cells."""
         return int(self.cells.shape[0])
+
+
+@dataclass(frozen=True)
+class Mesh(CellMesh):
+    """An unstructured hexahedral mesh: ``cells`` has shape (n_cells, 8)."""
+
+    NODES_PER_CELL: ClassVar[int] = 8

@@ -7,54 +7,19 @@ of a layered shell with AOPT = 0 follows edge 1-2 (physics.md section 6.5).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
-from batball.mesh.mesh import _frozen_sets
+from batball.mesh.mesh import CellMesh
 
 
 @dataclass(frozen=True)
-class ShellMesh:
-    """An unstructured four-node shell (quad) mesh on a mid-surface.
+class ShellMesh(CellMesh):
+    """An unstructured four-node shell (quad) mesh on a mid-surface: ``cells`` is (n_cells, 4)."""
 
-    Attributes:
-        points: node coordinates, shape (n_points, 3), m, float64, C-contiguous.
-        cells: quad connectivity, shape (n_cells, 4), int64 zero-based node indices in LS-DYNA/VTK
-            order, C-contiguous.
-        point_sets: named node index arrays, each shape (n,), int64.
-        cell_sets: named cell index arrays, each shape (n,), int64.
-    """
-
-    points: np.ndarray
-    cells: np.ndarray
-    point_sets: Mapping[str, np.ndarray] = field(default_factory=dict)
-    cell_sets: Mapping[str, np.ndarray] = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        points = np.ascontiguousarray(self.points, dtype=np.float64)
-        cells = np.ascontiguousarray(self.cells, dtype=np.int64)
-        if points.ndim != 2 or points.shape[1] != 3:
-            raise ValueError(f"points must have shape (n_points, 3), got {points.shape}")
-        if cells.ndim != 2 or cells.shape[1] != 4:
-            raise ValueError(f"cells must have shape (n_cells, 4), got {cells.shape}")
-        if cells.size and (cells.min() < 0 or cells.max() >= points.shape[0]):
-            raise ValueError("cells refer to nodes outside 0 .. n_points - 1")
-        object.__setattr__(self, "points", points)
-        object.__setattr__(self, "cells", cells)
-        object.__setattr__(self, "point_sets", _frozen_sets(self.point_sets))
-        object.__setattr__(self, "cell_sets", _frozen_sets(self.cell_sets))
-
-    @property
-    def n_points(self) -> int:
-        """Number of nodes."""
-        return int(self.points.shape[0])
-
-    @property
-    def n_cells(self) -> int:
-        """Number of quads."""
-        return int(self.cells.shape[0])
+    NODES_PER_CELL: ClassVar[int] = 4
 
 
 def quad_areas(points: np.ndarray, cells: np.ndarray) -> np.ndarray:
