@@ -21,15 +21,14 @@ field (``"material.g_inf"``), the value given and what is allowed.
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from batball.errors import SpecError
 from batball.materials import MATERIAL_LAWS, MaterialLaw
+from batball.specs.document import read_spec_document
 from batball.units import allowed_text, format_quantity, parse_quantity
 
 #: Names of the balls shipped as package data (``specs/data/<name>.toml``): the seed's types 1, 2.
@@ -253,19 +252,9 @@ def load_ball_spec(name_or_path: str | Path) -> BallSpec:
     Raises:
         SpecError: neither an embedded name nor an existing file, invalid TOML, invalid content.
     """
-    if isinstance(name_or_path, str) and name_or_path in EMBEDDED_BALLS:
-        data = resources.files("batball.specs").joinpath("data", f"{name_or_path}.toml")
-        text, source = data.read_text(encoding="utf-8"), f"embedded ball {name_or_path!r}"
-    else:
-        path = Path(name_or_path)
-        if not path.is_file():
-            allowed = f"an embedded ball ({', '.join(EMBEDDED_BALLS)}) or the path of a TOML file"
-            raise SpecError("ball", str(name_or_path), allowed)
-        text, source = path.read_text(encoding="utf-8"), str(path)
-    try:
-        document = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SpecError("ball", source, f"valid TOML ({exc})") from None
+    document, source = read_spec_document(
+        name_or_path, kind="ball", embedded=EMBEDDED_BALLS, file_pattern="{name}.toml"
+    )
     return ball_spec_from_dict(document, source=source)
 
 

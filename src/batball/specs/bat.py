@@ -47,10 +47,8 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
@@ -62,6 +60,7 @@ from batball.materials import LAMINA_LAWS
 from batball.materials.laminate import Laminate, Ply
 from batball.materials.orthotropic import OrthotropicLamina
 from batball.specs.ball import _reject_unknown_keys, _required
+from batball.specs.document import read_spec_document
 from batball.units import allowed_text, format_quantity, parse_quantity
 
 #: Names of the bats shipped as package data (``specs/data/<name>_bat.toml``).
@@ -468,19 +467,9 @@ def load_bat_spec(name_or_path: str | Path) -> BatSpec:
     Raises:
         SpecError: neither an embedded name nor an existing file, invalid TOML, invalid content.
     """
-    if isinstance(name_or_path, str) and name_or_path in EMBEDDED_BATS:
-        data = resources.files("batball.specs").joinpath("data", f"{name_or_path}_bat.toml")
-        text, source = data.read_text(encoding="utf-8"), f"embedded bat {name_or_path!r}"
-    else:
-        path = Path(name_or_path)
-        if not path.is_file():
-            allowed = f"an embedded bat ({', '.join(EMBEDDED_BATS)}) or the path of a TOML file"
-            raise SpecError("bat", str(name_or_path), allowed)
-        text, source = path.read_text(encoding="utf-8"), str(path)
-    try:
-        document = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SpecError("bat", source, f"valid TOML ({exc})") from None
+    document, source = read_spec_document(
+        name_or_path, kind="bat", embedded=EMBEDDED_BATS, file_pattern="{name}_bat.toml"
+    )
     return bat_spec_from_dict(document, source=source)
 
 
