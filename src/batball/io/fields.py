@@ -27,6 +27,19 @@ def _meshio_mesh(mesh: Mesh) -> meshio.Mesh:
     return meshio.Mesh(mesh.points, [(HEX_CELL_TYPE, mesh.cells)])
 
 
+def _checked_rows(
+    data: Mapping[str, np.ndarray], kind: str, count_name: str, count: int
+) -> dict[str, np.ndarray]:
+    """Contiguous copies of ``data``, each checked to have ``count`` rows."""
+    for name, values in data.items():
+        if np.shape(values)[0] != count:
+            raise ValueError(
+                f"{kind} data {name!r} has {np.shape(values)[0]} rows, "
+                f"expected {count_name} = {count}"
+            )
+    return {name: np.ascontiguousarray(values) for name, values in data.items()}
+
+
 def _frame_point_data(
     mesh: Mesh, displacement: np.ndarray | None, point_data: Mapping[str, np.ndarray] | None
 ) -> dict[str, np.ndarray]:
@@ -34,13 +47,7 @@ def _frame_point_data(
     data = dict(point_data or {})
     if displacement is not None:
         data["displacement"] = displacement
-    for name, values in data.items():
-        if np.shape(values)[0] != mesh.n_points:
-            raise ValueError(
-                f"point data {name!r} has {np.shape(values)[0]} rows, "
-                f"expected n_points = {mesh.n_points}"
-            )
-    return {name: np.ascontiguousarray(values) for name, values in data.items()}
+    return _checked_rows(data, "point", "n_points", mesh.n_points)
 
 
 def _frame_cell_data(
@@ -48,13 +55,7 @@ def _frame_cell_data(
 ) -> dict[str, np.ndarray]:
     """Cell data of one frame, each array of leading dimension n_cells, checked."""
     data = dict(cell_data or {})
-    for name, values in data.items():
-        if np.shape(values)[0] != mesh.n_cells:
-            raise ValueError(
-                f"cell data {name!r} has {np.shape(values)[0]} rows, "
-                f"expected n_cells = {mesh.n_cells}"
-            )
-    return {name: np.ascontiguousarray(values) for name, values in data.items()}
+    return _checked_rows(data, "cell", "n_cells", mesh.n_cells)
 
 
 def write_vtu(
