@@ -44,10 +44,15 @@ def add_impact_parser(sub: Any, test: str, help_text: str) -> None:
         default=0.01,
         help="contact-time level as a fraction of the peak force (default 0.01)",
     )
-    p.add_argument("--runs-dir", type=Path, default=Path("runs"), help="results store (runs/)")
-    p.add_argument("--no-reuse", action="store_true", help="run even if the same run is stored")
+    add_store_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=run_impact_command, test=test)
+
+
+def add_store_options(p: Any) -> None:
+    """Where runs are stored, and whether a stored run with the same inputs is reused."""
+    p.add_argument("--runs-dir", type=Path, default=Path("runs"), help="results store (runs/)")
+    p.add_argument("--no-reuse", action="store_true", help="run even if the same run is stored")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -85,8 +90,7 @@ def add_props_parser(sub: Any) -> None:
     help_text = "weight, balance point and MOI about the 6-in pivot of a bat (ASTM F2398)"
     p = sub.add_parser("props", help=help_text, description=help_text)
     add_bat_mesh_options(p)
-    p.add_argument("--runs-dir", type=Path, default=Path("runs"), help="results store (runs/)")
-    p.add_argument("--no-reuse", action="store_true", help="run even if the same run is stored")
+    add_store_options(p)
     p.set_defaults(handler=run_props_command)
 
 
@@ -96,8 +100,7 @@ def add_modal_parser(sub: Any) -> None:
     p = sub.add_parser("modal", help=help_text, description=help_text)
     add_bat_mesh_options(p)
     p.add_argument("--modes", type=int, default=30, help="modes to compute (default 30)")
-    p.add_argument("--runs-dir", type=Path, default=Path("runs"), help="results store (runs/)")
-    p.add_argument("--no-reuse", action="store_true", help="run even if the same run is stored")
+    add_store_options(p)
     p.set_defaults(handler=run_modal_command)
 
 
