@@ -272,11 +272,8 @@ class ExplicitSolver:
         }
         self.kinetic0 = float(0.5 * np.sum(self.work.mass[:, None] * model.initial_velocity**2))
         self.first_dt = 0.0
+        self.total_mass = float(self.work.mass.sum())  # kg; read every step, so summed once
 
-    @property
-    def total_mass(self) -> float:
-        """Mass of the body [kg]."""
-        return float(self.work.mass.sum())
 
     def element_forces(self) -> None:
         """Stress update and element nodal forces from x^n and v^(n-1/2)."""
