@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from batball.lab.impact import ContactOptions, ImpactSetup, run_impact
-from batball.solvers.explicit import HourglassControl
+from batball.solvers.explicit import BALANCE, HourglassControl
 from batball.specs import ball_spec_from_dict
 
 RADIUS, MASS, E_MOD, NU, SPEED = 0.0485, 0.185, 50e6, 0.3, 3.0
@@ -72,5 +72,5 @@ def test_contact_time_and_peak_force_agree_with_hertz(hertz_run) -> None:
 def test_elastic_impact_conserves_energy(hertz_run) -> None:
     energies = hertz_run.run.energies
     kinetic0 = 0.5 * hertz_run.run.mass * SPEED**2
-    assert np.abs(energies[:, 5]).max() < 0.005 * kinetic0  # balance: KE+IE+HG+BV+CE = KE0
+    assert np.abs(energies[:, BALANCE]).max() < 0.005 * kinetic0  # balance: KE+IE+HG+BV+CE = KE0
     assert hertz_run.measures.restitution >= 0.98  # verification.md: COR >= 0.98 explicit

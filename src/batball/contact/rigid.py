@@ -31,29 +31,36 @@ TARGET_PLANE = 0
 TARGET_CYLINDER = 1
 
 
+#: Length of a packed target's parameter row (see ``RigidPlane.packed``).
+N_TARGET_PARAMS = 14
+
+
 @dataclass(frozen=True)
 class RigidPlane:
-    """An infinite fixed flat wall.
+    """An infinite flat wall, fixed or translating at a constant velocity.
 
     Attributes:
-        point: (3,) a point on the wall face [m].
+        point: (3,) a point on the wall face at t = 0 [m].
         normal: (3,) unit normal pointing out of the wall, toward the ball.
+        velocity: (3,) the wall's prescribed velocity [m/s] (a moving platen); None = fixed.
     """
 
     point: np.ndarray
     normal: np.ndarray
+    velocity: np.ndarray | None = None
 
     def packed(self) -> tuple[int, np.ndarray]:
-        """Kernel form: (TARGET_PLANE, [point, normal, zeros])."""
-        params = np.zeros(11)
+        """Kernel form: (TARGET_PLANE, [point, normal, 5 zeros, velocity])."""
+        params = np.zeros(N_TARGET_PARAMS)
         params[0:3] = self.point
         params[3:6] = unit(self.normal, "target.normal")
+        params[11:14] = packed_velocity(self.velocity)
         return TARGET_PLANE, params
 
 
 @dataclass(frozen=True)
 class RigidCylinder:
-    """A fixed half-cylinder whose curved face meets the ball.
+    """A half-cylinder, fixed or translating, whose curved face meets the body.
 
     Attributes:
         axis_point: (3,) a point on the axis, at mid-length [m].
@@ -61,6 +68,7 @@ class RigidCylinder:
         front: (3,) unit vector normal to the axis toward the ball: only the half with
             (x - axis_point) . front >= 0 is the impact face.
         radius: [m]; length: the cylinder's length along the axis [m].
+        velocity: (3,) prescribed velocity [m/s]; None = fixed.
     """
 
     axis_point: np.ndarray
@@ -68,18 +76,31 @@ class RigidCylinder:
     front: np.ndarray
     radius: float
     length: float
+    velocity: np.ndarray | None = None
 
     def packed(self) -> tuple[int, np.ndarray]:
-        """Kernel form: (TARGET_CYLINDER, [axis point, axis, front, radius, half length])."""
+        """Kernel form: (TARGET_CYLINDER, [axis point, axis, front, radius, half length,
+        velocity])."""
         if not (self.radius > 0 and self.length > 0):
             raise SpecError("target.radius", self.radius, "a positive radius and length")
-        params = np.zeros(11)
+        params = np.zeros(N_TARGET_PARAMS)
         params[0:3] = self.axis_point
         params[3:6] = unit(self.axis, "target.axis")
         params[6:9] = unit(self.front, "target.front")
         params[9] = self.radius
         params[10] = 0.5 * self.length
+        params[11:14] = packed_velocity(self.velocity)
         return TARGET_CYLINDER, params
+
+
+def packed_velocity(velocity: np.ndarray | None) -> np.ndarray:
+    """A target's velocity as three finite floats [m/s] (zero when fixed)."""
+    if velocity is None:
+        return np.zeros(3)
+    v = np.asarray(velocity, dtype=np.float64)
+    if v.shape != (3,) or not np.isfinite(v).all():
+        raise SpecError("target.velocity", np.asarray(velocity).tolist(), "three finite m/s values")
+    return v
 
 
 def unit(vector: np.ndarray, field: str) -> np.ndarray:
@@ -95,7 +116,10 @@ def unit(vector: np.ndarray, field: str) -> np.ndarray:
 def _penetration(
     kind: int, params: np.ndarray, x0: float, x1: float, x2: float, normal: np.ndarray
 ) -> float:
-    """Penetration depth g (> 0 inside) of a point and the target's outward normal there."""
+    """Penetration depth g (> 0 inside) of a point and the target's outward normal there.
+
+    ``x0, x1, x2`` are relative to the target's motion (the point minus velocity * time).
+    """
     if kind == TARGET_PLANE:
         for i in range(3):
             normal[i] = params[3 + i]
@@ -127,37 +151,50 @@ def _penetration(
 @nb.njit(fastmath=FASTMATH, cache=True)
 def add_rigid_contact_forces(
     points: np.ndarray,
+    time: float,
     node_ids: np.ndarray,
     stiffness: np.ndarray,
-    kind: int,
+    offsets: np.ndarray,
+    kinds: np.ndarray,
     params: np.ndarray,
     forces: np.ndarray,
     reaction: np.ndarray,
 ) -> int:
-    """Add penalty forces on the slave nodes to ``forces``; write the target's reaction.
+    """Add the penalty forces of every target on its slave nodes to ``forces``.
 
     Args:
-        points: (n_points, 3) current coordinates [m].
-        node_ids: (n_slaves,) slave node ids; stiffness: (n_slaves,) penalty stiffness [N/m].
-        kind, params: the packed target (see ``RigidPlane.packed``, ``RigidCylinder.packed``).
+        points: (n_points, 3) current coordinates [m]; time: the current time [s] (moves the
+            translating targets).
+        node_ids, stiffness: (n_slaves,) slave node ids and penalty stiffness [N/m] of all
+            targets, target k's slaves at ``offsets[k]:offsets[k + 1]``.
+        kinds, params: (n_targets,) and (n_targets, N_TARGET_PARAMS), the packed targets (see
+            ``RigidPlane.packed``, ``RigidCylinder.packed``).
         forces: (n_points, 3) nodal forces [N], added to in place.
-        reaction: (3,) out: the force the body exerts on the target [N].
+        reaction: (n_targets, 3) out: the force the body exerts on each target [N].
 
     Returns:
-        The number of nodes in contact.
+        The number of slave nodes in contact.
     """
     normal = np.empty(3)
     reaction[:] = 0.0
     n_active = 0
-    for s in range(node_ids.shape[0]):
-        n = node_ids[s]
-        g = _penetration(kind, params, points[n, 0], points[n, 1], points[n, 2], normal)
-        if g > 0.0:
-            n_active += 1
-            for i in range(3):
-                fi = stiffness[s] * g * normal[i]
-                forces[n, i] += fi
-                reaction[i] -= fi
+    for k in range(kinds.shape[0]):
+        p = params[k]
+        shift0 = p[11] * time
+        shift1 = p[12] * time
+        shift2 = p[13] * time
+        for s in range(offsets[k], offsets[k + 1]):
+            n = node_ids[s]
+            g = _penetration(
+                kinds[k], p, points[n, 0] - shift0, points[n, 1] - shift1, points[n, 2] - shift2,
+                normal,
+            )
+            if g > 0.0:
+                n_active += 1
+                for i in range(3):
+                    fi = stiffness[s] * g * normal[i]
+                    forces[n, i] += fi
+                    reaction[k, i] -= fi
     return n_active
 
 

@@ -27,6 +27,7 @@ from batball.io.store import (
 from batball.lab.impact import ImpactResult, ImpactSetup, run_impact
 from batball.mesh import mesh_quality
 from batball.report.plots import plot_force_time
+from batball.solvers.explicit import BALANCE, ENERGY_COLUMNS
 from batball.specs import BallSpec, ball_spec_to_toml_dict
 
 MPH = 0.44704  # m/s
@@ -62,7 +63,7 @@ def summarise(result: ImpactResult, wall_seconds: float) -> dict[str, Any]:
         "rebound_mph": m.rebound_speed / MPH,
         "ball": result.ball.name,
         "ball_mass_oz": run.mass / OZ,
-        "energy_balance_error": float(np.abs(run.energies[:, 5]).max() / kinetic0),
+        "energy_balance_error": float(np.abs(run.energies[:, BALANCE]).max() / kinetic0),
         "hourglass_energy_fraction": float(run.energies[-1, 2] / kinetic0),
         "initial_kinetic_energy_j": kinetic0,
         "n_cells": result.mesh.n_cells,
@@ -90,9 +91,7 @@ def write_history(folder: Path, result: ImpactResult) -> None:
         "ball_velocity_z_mph": run.com_velocity[:, 2] / MPH,
         "ball_speed_mph": np.linalg.norm(run.com_velocity, axis=1) / MPH,
     }
-    for k, name in enumerate(
-        ("kinetic", "internal", "hourglass", "bulk_viscosity", "contact", "balance_error")
-    ):
+    for k, name in enumerate(ENERGY_COLUMNS):
         columns[f"{name}_energy_j"] = run.energies[:, k]
     columns["contact_nodes"] = run.contact_nodes
     write_csv_atomic(folder / "history.csv", columns)

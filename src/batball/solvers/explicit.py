@@ -1,10 +1,14 @@
 """Explicit central-difference dynamics of a hex-meshed body against rigid targets.
 
-The cycle runs as named, timed phases (STYLE.md rule 4): element forces (with the stress update),
-assembly, contact forces, time step, update. Energies (kinetic, internal, hourglass, bulk
-viscosity, contact) are kept every step and their balance against the initial kinetic energy is
-reported. A run stops with a :class:`~batball.errors.SimulationError` that says where and when if an
-element inverts, the time step collapses, the energy runs away or a value turns non-finite.
+A cycle is two compiled calls: the element forces (with the stress update), then
+:func:`~batball.solvers.explicit_kernels.finish_cycle` (contact forces, time step, assembly and
+central-difference update, energy checks and the history row); the Python loop around them only
+keeps frames and progress. Energies (kinetic, internal, hourglass, bulk viscosity, contact,
+damping) are kept every step and their balance against the initial kinetic energy plus the
+external work is reported. Optional mass-proportional damping turns the run into a dynamic
+relaxation (quasi-static tests). A run stops with a :class:`~batball.errors.SimulationError`
+that says where and when if an element inverts, the time step collapses, the energy runs away
+or a value turns non-finite.
 """
 
 from __future__ import annotations
@@ -16,16 +20,12 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
-from batball.contact.rigid import RigidCylinder, RigidPlane, add_rigid_contact_forces
+from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces
 from batball.errors import SimulationError, SpecError
 from batball.mesh import Mesh
-from batball.solvers.explicit_kernels import (
-    assemble_nodal_forces,
-    central_difference_update,
-    lumped_masses,
-    node_cell_map,
-)
+from batball.solvers import explicit_kernels as kern
+from batball.solvers.explicit_kernels import lumped_masses, node_cell_map
 
 IN = 0.0254  # m, for messages a person reads
 
@@ -75,6 +75,13 @@ class ExplicitControls:
         max_energy_error: stop if the energy balance error exceeds this fraction of the initial
             kinetic energy (a run-away).
         min_step_ratio: stop if the step falls below this fraction of the first step.
+        mass_damping: mass-proportional damping coefficient c [1/s] (the force -c m v on every
+            node; 0 = none). Dynamic relaxation uses about twice the lowest circular frequency.
+        energy_floor: the smallest energy [J] the balance check compares against, for runs that
+            start at rest (the reference is the larger of the initial kinetic energy and the
+            external work done by the targets): set it to a small fraction of the work the test
+            is expected to do, so that the round-off of the first contact steps, when every
+            energy is tiny, is not taken for a run-away.
     """
 
     end_time: float
@@ -85,12 +92,16 @@ class ExplicitControls:
     frame_count: int = 40
     max_energy_error: float = 0.1
     min_step_ratio: float = 1e-3
+    mass_damping: float = 0.0
+    energy_floor: float = 1e-9
 
     def __post_init__(self) -> None:
         if not self.end_time > 0:
             raise SpecError("end_time", self.end_time, "a positive time")
         if not 0 < self.time_step_scale <= 1:
             raise SpecError("time_step_scale", self.time_step_scale, "0 < TSSFAC <= 1")
+        if not (np.isfinite(self.mass_damping) and self.mass_damping >= 0):
+            raise SpecError("mass_damping", self.mass_damping, "a damping coefficient >= 0 1/s")
 
 
 @dataclass(frozen=True)
@@ -131,18 +142,40 @@ class Model:
 
 @dataclass
 class State:
-    """The evolving state: positions x^n, velocities v^(n-1/2) and the element histories."""
+    """The evolving state: positions x^n, velocities v^(n-1/2) and the element histories.
 
-    time: float
-    step: int
-    dt: float
+    ``clock`` and ``counters`` hold time, step sizes, contact times and the step count in the
+    slots named in :mod:`batball.solvers.explicit_kernels`.
+    """
+
+    clock: np.ndarray
+    counters: np.ndarray
     points: np.ndarray
     velocities: np.ndarray
     s_inf: np.ndarray
     h: np.ndarray
     pressure: np.ndarray
     hg_state: np.ndarray
-    energies: np.ndarray  # internal, hourglass, bulk viscosity, contact [J]
+    energies: np.ndarray  # internal, hourglass, bulk viscosity, contact, damping [J]
+
+    @property
+    def time(self) -> float:
+        """t^n [s]."""
+        return float(self.clock[kern.TIME])
+
+    @property
+    def dt(self) -> float:
+        """The step dt^(n-1/2) that led to x^n [s]."""
+        return float(self.clock[kern.DT])
+
+    @dt.setter
+    def dt(self, value: float) -> None:
+        self.clock[kern.DT] = value
+
+    @property
+    def step(self) -> int:
+        """Cycles taken."""
+        return int(self.counters[kern.STEP])
 
 
 @dataclass(frozen=True)
@@ -153,11 +186,13 @@ class ExplicitResult:
         time: (n_steps,) [s].
         reaction: (n_steps, n_contacts, 3) force of the body on each target [N].
         com_velocity: (n_steps, 3) body centre-of-mass velocity [m/s].
-        energies: (n_steps, 6) kinetic, internal, hourglass, bulk viscosity, contact, balance
-            error (all [J]; the error is total minus initial kinetic energy).
+        energies: (n_steps, 7) kinetic, internal, hourglass, bulk viscosity, contact, damping,
+            balance error (all [J], in ``ENERGY_COLUMNS`` order; the error is the total minus the
+            initial kinetic energy, the contact energy being minus the work of the targets).
         contact_nodes: (n_steps,) nodes in contact.
         frame_times: (n_frames,) [s]; frames: (n_frames, n_points, 3) displacements [m].
-        mass: total mass [kg]; phase_seconds: wall time of each phase [s].
+        mass: total mass [kg]; phase_seconds: wall time of the element kernel and of the rest of
+            the cycle [s] (measured around the two compiled calls).
     """
 
     time: np.ndarray
@@ -173,23 +208,33 @@ class ExplicitResult:
     phase_seconds: dict[str, float]
 
 
-ENERGY_COLUMNS = ("kinetic", "internal", "hourglass", "bulk_viscosity", "contact", "balance_error")
+ENERGY_COLUMNS = (
+    "kinetic",
+    "internal",
+    "hourglass",
+    "bulk_viscosity",
+    "contact",
+    "damping",
+    "balance_error",
+)
+BALANCE = ENERGY_COLUMNS.index("balance_error")
 
 
 def initial_state(model: Model) -> State:
     """The state at t = 0: undeformed, unstressed, moving with the initial velocity."""
     n_cells = model.mesh.n_cells
+    clock = np.zeros(5)
+    clock[[kern.CONTACT_BEGAN, kern.LAST_CONTACT]] = -1.0
     return State(
-        time=0.0,
-        step=0,
-        dt=0.0,
+        clock=clock,
+        counters=np.zeros(2, dtype=np.int64),
         points=model.mesh.points.copy(),
         velocities=model.initial_velocity.copy(),
         s_inf=np.zeros((n_cells, 6)),
         h=np.zeros((n_cells, 6)),
         pressure=np.zeros(n_cells),
         hg_state=np.zeros((n_cells, 4, 3)),
-        energies=np.zeros(4),
+        energies=np.zeros(kern.N_ENERGIES),
     )
 
 
@@ -210,36 +255,53 @@ class _Workspace:
             )
         cell_mass = model.densities[model.cell_material] * self.volume0
         self.mass = lumped_masses(mesh.cells, cell_mass, mesh.n_points)
-        self.offsets, self.entries = node_cell_map(mesh.cells, mesh.n_points)
         self.cell_forces = np.zeros((mesh.n_cells, 24))
         self.cell_volume = np.zeros(mesh.n_cells)
         self.cell_dt = np.zeros(mesh.n_cells)
         self.n_chunks = max(1, min(mesh.n_cells, 16 * nb.get_num_threads()))
         self.energy_increments = np.zeros((self.n_chunks, 3))
-        self.forces = np.zeros((mesh.n_points, 3))
         self.contact_forces = np.zeros((mesh.n_points, 3))
-        self.momentum = np.zeros(3)
+        offsets, entries = node_cell_map(mesh.cells, mesh.n_points)
+        self.nodes = (offsets, entries, self.mass, self.contact_forces, np.zeros(6))
         self.reaction = np.zeros((len(model.contacts), 3))
-        self.packed = [c.target.packed() for c in model.contacts]
+        self.contacts = packed_contacts(model.contacts, self.reaction)
         bv = controls.bulk_viscosity
         self.q1, self.q2 = (bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)
+        self.row_width = 1 + 3 * len(model.contacts) + 3 + len(ENERGY_COLUMNS) + 1
+
+
+def packed_contacts(contacts: tuple[RigidContact, ...], reaction: np.ndarray) -> tuple:
+    """The kernel form of the targets: (node_ids, stiffness, offsets, kinds, params, reaction)."""
+    packed = [c.target.packed() for c in contacts]
+    sizes = [len(c.node_ids) for c in contacts]
+    offsets = np.zeros(len(contacts) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=offsets[1:])
+    node_ids = np.concatenate([c.node_ids for c in contacts] or [np.zeros(0)]).astype(np.int64)
+    stiffness = np.concatenate([c.stiffness for c in contacts] or [np.zeros(0)]).astype(float)
+    kinds = np.array([k for k, _ in packed], dtype=np.int64)
+    from batball.contact.rigid import N_TARGET_PARAMS
+
+    params = np.array([p for _, p in packed]).reshape(len(contacts), N_TARGET_PARAMS)
+    return node_ids, stiffness, offsets, kinds, params, reaction
 
 
 class _Recorder:
-    """Per-step histories in growing arrays, and displacement frames at a fixed interval."""
+    """Per-step history rows in a growing table, and displacement frames at a fixed interval."""
 
-    def __init__(self, n_contacts: int, frame_interval: float) -> None:
-        self.rows: list[np.ndarray] = []
+    def __init__(self, n_contacts: int, width: int, frame_interval: float) -> None:
+        self.table = np.zeros((4096, width))
+        self.n_rows = 0
         self.n_contacts = n_contacts
         self.frame_interval = frame_interval
         self.next_frame = 0.0
         self.frame_times: list[float] = []
         self.frames: list[np.ndarray] = []
 
-    def record(
-        self, t: float, reaction: np.ndarray, com_v: np.ndarray, energies: np.ndarray, n_active: int
-    ) -> None:
-        self.rows.append(np.concatenate(([t], reaction.ravel(), com_v, energies, [n_active])))
+    def next_row(self) -> np.ndarray:
+        """The row the next cycle writes (the table doubles when full)."""
+        if self.n_rows == len(self.table):
+            self.table = np.concatenate((self.table, np.zeros_like(self.table)))
+        return self.table[self.n_rows]
 
     def maybe_frame(self, t: float, displacement: Callable[[], np.ndarray]) -> None:
         if t >= self.next_frame:
@@ -248,32 +310,41 @@ class _Recorder:
             self.next_frame += self.frame_interval
 
     def arrays(self) -> dict[str, np.ndarray]:
-        table = np.array(self.rows)
+        table = self.table[: self.n_rows]
         nc = 3 * self.n_contacts
+        n_e = len(ENERGY_COLUMNS)
         return {
-            "time": table[:, 0],
-            "reaction": table[:, 1 : 1 + nc].reshape(-1, self.n_contacts, 3),
+            "time": table[:, 0].copy(),
+            "reaction": table[:, 1 : 1 + nc].reshape(len(table), self.n_contacts, 3),
             "com_velocity": table[:, 1 + nc : 4 + nc],
-            "energies": table[:, 4 + nc : 10 + nc],
-            "contact_nodes": table[:, 10 + nc].astype(np.int64),
+            "energies": table[:, 4 + nc : 4 + nc + n_e],
+            "contact_nodes": table[:, 4 + nc + n_e].astype(np.int64),
         }
 
 
 class ExplicitSolver:
-    """Runs a :class:`Model` with :class:`ExplicitControls`; each phase is a method and is timed."""
+    """Runs a :class:`Model` with :class:`ExplicitControls`."""
 
     def __init__(self, model: Model, controls: ExplicitControls) -> None:
         self.model = model
         self.controls = controls
         self.work = _Workspace(model, controls)
         self.state = initial_state(model)
-        self.phase_seconds = {
-            p: 0.0 for p in ("element_forces", "assembly", "contact", "time_step", "update")
-        }
+        self.phase_seconds = {"element_forces": 0.0, "rest_of_cycle": 0.0}
         self.kinetic0 = float(0.5 * np.sum(self.work.mass[:, None] * model.initial_velocity**2))
-        self.first_dt = 0.0
-        self.total_mass = float(self.work.mass.sum())  # kg; read every step, so summed once
-
+        self.total_mass = float(self.work.mass.sum())
+        limits = np.zeros(8)
+        limits[kern.TSSFAC] = controls.time_step_scale
+        limits[kern.MIN_STEP_RATIO] = controls.min_step_ratio
+        limits[kern.DAMPING] = controls.mass_damping
+        sep = controls.separation_time
+        limits[kern.SEPARATION_TIME] = -1.0 if sep is None else sep
+        limits[kern.KINETIC0] = self.kinetic0
+        limits[kern.MAX_ENERGY_ERROR] = controls.max_energy_error
+        limits[kern.TOTAL_MASS] = self.total_mass
+        limits[kern.ENERGY_FLOOR] = controls.energy_floor
+        self.limits = limits
+        self.scratch_row = np.zeros(self.work.row_width)
 
     def element_forces(self) -> None:
         """Stress update and element nodal forces from x^n and v^(n-1/2)."""
@@ -300,135 +371,91 @@ class ExplicitSolver:
             w.cell_dt,
             w.energy_increments,
         )
-        s.energies[:3] += w.energy_increments.sum(axis=0)
 
-    def assembly(self) -> None:
-        """Gather element forces to nodes."""
-        w = self.work
-        assemble_nodal_forces(w.cell_forces, w.offsets, w.entries, w.forces)
-
-    def contact(self) -> int:
-        """Penalty forces of every rigid target; returns the number of nodes in contact."""
-        w = self.work
-        w.contact_forces[:] = 0.0
-        n_active = 0
-        for k, contact in enumerate(self.model.contacts):
-            kind, params = w.packed[k]
-            n_active += add_rigid_contact_forces(
-                self.state.points,
-                contact.node_ids,
-                contact.stiffness,
-                kind,
-                params,
-                w.contact_forces,
-                w.reaction[k],
-            )
-        return n_active
-
-    def time_step(self) -> float:
-        """The next step: TSSFAC times the smallest element step; stops on failure."""
-        w, s = self.work, self.state
-        smallest = int(np.argmin(w.cell_dt))
-        if not w.cell_dt[smallest] > 0:
-            self.raise_inverted()
-        dt = self.controls.time_step_scale * float(w.cell_dt[smallest])
-        if self.first_dt == 0.0:
-            self.first_dt = dt
-        elif dt < self.controls.min_step_ratio * self.first_dt:
-            raise SimulationError(
-                f"time step collapsed at t = {s.time * 1e3:.4f} ms (step {s.step}): "
-                f"{dt:.3e} s, below {self.controls.min_step_ratio:g} of the first step "
-                f"{self.first_dt:.3e} s; smallest in element {smallest}"
-            )
-        return dt
-
-    def raise_inverted(self) -> None:
-        """Stop with the first inverted element, its volume and the time."""
-        w, s = self.work, self.state
-        bad = np.flatnonzero(~(w.cell_volume > 0))
-        e = int(bad[0]) if bad.size else int(np.argmin(w.cell_dt))
-        raise SimulationError(
-            f"element {e} inverted at t = {s.time * 1e3:.4f} ms (step {s.step}): volume "
-            f"{w.cell_volume[e] / IN**3:.3e} in^3 (initial {w.volume0[e] / IN**3:.3e} in^3); "
-            f"{bad.size} element(s) without positive volume"
-        )
-
-    def update(self, dt_new: float) -> float:
-        """Central-difference update; returns the kinetic energy at n + 1/2."""
+    def finish(self, row: np.ndarray) -> int:
+        """Contact, time step, update, checks and the history row (one compiled call)."""
         s, w = self.state, self.work
-        kinetic, contact_work = central_difference_update(
-            s.points, s.velocities, w.forces, w.contact_forces, w.mass, s.dt, dt_new, w.momentum
+        return int(
+            kern.finish_cycle(
+                w.energy_increments,
+                w.cell_dt,
+                w.cell_forces,
+                w.nodes,
+                w.contacts,
+                s.points,
+                s.velocities,
+                s.clock,
+                s.counters,
+                s.energies,
+                self.limits,
+                row,
+            )
         )
-        s.energies[3] -= contact_work
-        s.time += dt_new
-        s.step += 1
-        s.dt = dt_new
-        return kinetic
 
-    def check_energy(self, kinetic: float, balance: float) -> None:
-        """Stop on non-finite values or a run-away energy balance."""
-        s = self.state
-        if not (np.isfinite(kinetic) and np.isfinite(balance)):
-            raise SimulationError(
-                f"non-finite kinetic energy or energy balance at t = {s.time * 1e3:.4f} ms "
-                f"(step {s.step})"
-            )
-        if abs(balance) > self.controls.max_energy_error * self.kinetic0:
-            raise SimulationError(
-                f"energy balance error reached {100 * balance / self.kinetic0:+.1f} % of the "
-                f"initial kinetic energy at t = {s.time * 1e3:.4f} ms (step {s.step}): the run "
-                f"is unstable (time step too large or contact too stiff)"
-            )
-
-    def cycle(self) -> tuple[float, int]:
-        """One explicit cycle; returns (kinetic energy, nodes in contact)."""
+    def cycle(self, row: np.ndarray | None = None) -> tuple[float, int]:
+        """One explicit cycle; returns (kinetic energy, nodes in contact). Stops on failure."""
+        row = self.scratch_row if row is None else row
         clock = time.perf_counter
         t0 = clock()
         self.element_forces()
         t1 = clock()
-        self.assembly()
-        t2 = clock()
-        n_active = self.contact()
-        t3 = clock()
-        dt_new = self.time_step()
-        t4 = clock()
-        kinetic = self.update(dt_new)
-        t5 = clock()
-        for name, dt in zip(
-            self.phase_seconds, (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4), strict=True
-        ):
-            self.phase_seconds[name] += dt
-        return kinetic, n_active
+        status = self.finish(row)
+        self.phase_seconds["element_forces"] += t1 - t0
+        self.phase_seconds["rest_of_cycle"] += clock() - t1
+        if status < 0:
+            self.raise_failure(status, row)
+        self.separated = status == kern.CYCLE_SEPARATED
+        nc = 3 * len(self.model.contacts)
+        return float(row[4 + nc]), int(row[-1])
+
+    def raise_failure(self, status: int, row: np.ndarray) -> None:
+        """Stop with a message that says what failed, where and when."""
+        s, w = self.state, self.work
+        e = int(s.counters[kern.ELEMENT])
+        when = f"t = {s.time * 1e3:.4f} ms (step {s.step})"
+        if status == kern.FAIL_INVERTED:
+            bad = np.flatnonzero(~(w.cell_volume > 0))
+            e = int(bad[0]) if bad.size else e
+            raise SimulationError(
+                f"element {e} inverted at {when}: volume {w.cell_volume[e] / IN**3:.3e} in^3 "
+                f"(initial {w.volume0[e] / IN**3:.3e} in^3); {bad.size} element(s) without "
+                f"positive volume"
+            )
+        if status == kern.FAIL_STEP_COLLAPSE:
+            first = s.clock[kern.FIRST_DT]
+            raise SimulationError(
+                f"time step collapsed at {when}: {s.dt:.3e} s, below "
+                f"{self.controls.min_step_ratio:g} of the first step {first:.3e} s; smallest in "
+                f"element {e}"
+            )
+        if status == kern.FAIL_NON_FINITE:
+            raise SimulationError(f"non-finite kinetic energy or energy balance at {when}")
+        balance = row[-2]
+        reference = max(self.kinetic0, abs(s.energies[3]), self.controls.energy_floor)
+        raise SimulationError(
+            f"energy balance error reached {100 * balance / reference:+.1f} % of the initial "
+            f"kinetic energy plus external work at {when}: the run is unstable (time step too "
+            f"large or contact too stiff)"
+        )
 
     def run(self, *, progress: Callable[[float], None] | None = None) -> ExplicitResult:
         """Advance to ``end_time`` or separation; record histories every step."""
         c, s = self.controls, self.state
-        rec = _Recorder(len(self.model.contacts), c.end_time / max(c.frame_count, 1))
+        rec = _Recorder(
+            len(self.model.contacts), self.work.row_width, c.end_time / max(c.frame_count, 1)
+        )
         points0 = self.model.mesh.points
         start = time.perf_counter()
-        contact_began: float | None = None
-        last_contact = 0.0
         rec.maybe_frame(0.0, lambda: s.points - points0)
-        while s.time < c.end_time:
-            kinetic, n_active = self.cycle()
-            balance = kinetic + s.energies.sum() - self.kinetic0
-            self.check_energy(kinetic, balance)
-            energies = np.concatenate(([kinetic], s.energies, [balance]))
-            rec.record(
-                s.time, self.work.reaction, self.work.momentum / self.total_mass, energies, n_active
-            )
-            rec.maybe_frame(s.time, lambda: s.points - points0)
-            if n_active:
-                contact_began = s.time if contact_began is None else contact_began
-                last_contact = s.time
-            if progress is not None and s.step % 200 == 0:
-                progress(s.time)
-            if (
-                c.separation_time is not None
-                and contact_began is not None
-                and s.time - last_contact > c.separation_time
-            ):
-                break
+        self.separated = False
+        while s.clock[kern.TIME] < c.end_time and not self.separated:
+            self.cycle(rec.next_row())
+            rec.n_rows += 1
+            t = s.clock[kern.TIME]
+            if t >= rec.next_frame:
+                rec.maybe_frame(t, lambda: s.points - points0)
+            if progress is not None and s.counters[kern.STEP] % 200 == 0:
+                progress(t)
         rec.frame_times.append(s.time)
         rec.frames.append((s.points - points0).astype(np.float32))
         return self.result(rec, time.perf_counter() - start)

@@ -1,11 +1,41 @@
-"""Node-level Numba kernels of the explicit cycle: assembly and the central-difference update."""
+"""Node-level Numba kernels of the explicit cycle: contact, time step, assembly, update, checks.
+
+:func:`finish_cycle` does everything of a cycle after the element forces in one compiled call, so
+the Python step loop makes two calls per cycle. Numba's cache of this module does not see edits of
+``contact/rigid.py``, whose kernel it compiles in: touch this file after editing that one.
+"""
 
 from __future__ import annotations
 
 import numba as nb
 import numpy as np
 
+from batball.contact.rigid import add_rigid_contact_forces
 from batball.numerics import FASTMATH
+
+#: :func:`finish_cycle` outcomes: go on, or stop (separation), or fail (negative).
+CYCLE_OK, CYCLE_SEPARATED = 0, 1
+FAIL_INVERTED, FAIL_STEP_COLLAPSE, FAIL_NON_FINITE, FAIL_ENERGY = -1, -2, -3, -4
+
+#: Slots of the ``clock`` array: time [s], last step [s], first step [s], contact start and last
+#: contact time [s] (-1 before any contact).
+TIME, DT, FIRST_DT, CONTACT_BEGAN, LAST_CONTACT = range(5)
+#: Slots of the ``counters`` array: steps taken, element named by a failure.
+STEP, ELEMENT = range(2)
+#: Slots of the ``limits`` array.
+(
+    TSSFAC,
+    MIN_STEP_RATIO,
+    DAMPING,
+    SEPARATION_TIME,
+    KINETIC0,
+    MAX_ENERGY_ERROR,
+    TOTAL_MASS,
+    ENERGY_FLOOR,
+) = range(8)
+#: Slots of the ``energies`` array [J]: accumulated internal, hourglass, bulk-viscosity, contact
+#: (minus the work of the contact forces on the body) and damping (dissipated) energy.
+N_ENERGIES = 5
 
 
 def node_cell_map(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
@@ -24,70 +54,88 @@ def node_cell_map(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndar
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
-def assemble_nodal_forces(
-    cell_forces: np.ndarray, offsets: np.ndarray, entries: np.ndarray, forces: np.ndarray
+def assemble_and_update(
+    cell_forces: np.ndarray,
+    offsets: np.ndarray,
+    entries: np.ndarray,
+    contact_forces: np.ndarray,
+    mass: np.ndarray,
+    damping: float,
+    dt_old: float,
+    dt_new: float,
+    points: np.ndarray,
+    velocities: np.ndarray,
+    sums: np.ndarray,
 ) -> None:
-    """forces[n] = sum of the element forces on node n (a race-free gather).
+    """Gather the element forces to the nodes and take one central-difference step, in place.
+
+    With mass-proportional damping c (dynamic relaxation; 0 for an undamped run),
+    m (v^(n+1/2) - v^(n-1/2)) / h = f^n - c m (v^(n+1/2) + v^(n-1/2)) / 2, h = (dt_old + dt_new)/2,
+    then x^(n+1) = x^n + dt_new v^(n+1/2). The gather reads every node's element slots through the
+    CSR map of :func:`node_cell_map`, so the nodes run in parallel without atomics.
 
     Args:
-        cell_forces: (n_cells, 24) [N], node-major; offsets, entries: from :func:`node_cell_map`.
-        forces: (n_points, 3) out [N].
+        cell_forces: (n_cells, 24) element forces [N], node-major.
+        offsets, entries: the node-to-slot map.
+        contact_forces: (n_points, 3) [N]; mass: (n_points,) lumped masses [kg]; damping: c [1/s].
+        points, velocities: (n_points, 3) x^n and v^(n-1/2), advanced in place [m, m/s].
+        sums: (6,) out: kinetic energy at n+1/2 [J], work of the contact forces over the step [J]
+            (taken with the mean displacement (dx^(n-1/2) + dx^(n+1/2)) / 2, consistent with the
+            kinetic-energy change of the scheme), energy dissipated by the damping [J], and the
+            total momentum [kg m/s].
     """
     flat = cell_forces.reshape((-1, 3))
-    for n in nb.prange(forces.shape[0]):
-        f0 = 0.0
-        f1 = 0.0
-        f2 = 0.0
+    half = 0.5 * (dt_old + dt_new)
+    keep = 1.0 - 0.5 * damping * half
+    scale = 1.0 / (1.0 + 0.5 * damping * half)
+    kinetic = 0.0
+    contact_work = 0.0
+    damping_work = 0.0
+    p0 = 0.0
+    p1 = 0.0
+    p2 = 0.0
+    for n in nb.prange(points.shape[0]):
+        f0 = contact_forces[n, 0]
+        f1 = contact_forces[n, 1]
+        f2 = contact_forces[n, 2]
         for k in range(offsets[n], offsets[n + 1]):
             slot = entries[k]
             f0 += flat[slot, 0]
             f1 += flat[slot, 1]
             f2 += flat[slot, 2]
-        forces[n, 0] = f0
-        forces[n, 1] = f1
-        forces[n, 2] = f2
-
-
-@nb.njit(fastmath=FASTMATH, cache=True)
-def central_difference_update(
-    points: np.ndarray,
-    velocities: np.ndarray,
-    forces: np.ndarray,
-    contact_forces: np.ndarray,
-    mass: np.ndarray,
-    dt_old: float,
-    dt_new: float,
-    momentum: np.ndarray,
-) -> tuple[float, float]:
-    """One central-difference update of velocities and positions, in place.
-
-    v^(n+1/2) = v^(n-1/2) + a^n (dt_old + dt_new) / 2;  x^(n+1) = x^n + dt_new v^(n+1/2).
-
-    Args:
-        points, velocities: (n_points, 3) x^n and v^(n-1/2), advanced in place [m, m/s].
-        forces: (n_points, 3) element forces [N]; contact_forces: (n_points, 3) [N].
-        mass: (n_points,) lumped masses [kg]; momentum: (3,) out, total momentum [kg m/s].
-
-    Returns:
-        (kinetic energy at n+1/2 [J], work of the contact forces over the step [J]), the work
-        taken with the mean displacement (dx^(n-1/2) + dx^(n+1/2)) / 2, consistent with the
-        kinetic-energy change of the central-difference scheme.
-    """
-    kinetic = 0.0
-    contact_work = 0.0
-    momentum[:] = 0.0
-    half = 0.5 * (dt_old + dt_new)
-    for n in range(points.shape[0]):
-        inv_m = 1.0 / mass[n]
-        for i in range(3):
-            v_old = velocities[n, i]
-            v_new = v_old + (forces[n, i] + contact_forces[n, i]) * inv_m * half
-            velocities[n, i] = v_new
-            points[n, i] += dt_new * v_new
-            contact_work += contact_forces[n, i] * 0.5 * (v_old * dt_old + v_new * dt_new)
-            kinetic += 0.5 * mass[n] * v_new * v_new
-            momentum[i] += mass[n] * v_new
-    return kinetic, contact_work
+        m = mass[n]
+        h_m = half / m
+        v0 = velocities[n, 0]
+        v1 = velocities[n, 1]
+        v2 = velocities[n, 2]
+        w0 = (keep * v0 + f0 * h_m) * scale
+        w1 = (keep * v1 + f1 * h_m) * scale
+        w2 = (keep * v2 + f2 * h_m) * scale
+        velocities[n, 0] = w0
+        velocities[n, 1] = w1
+        velocities[n, 2] = w2
+        points[n, 0] += dt_new * w0
+        points[n, 1] += dt_new * w1
+        points[n, 2] += dt_new * w2
+        contact_work += 0.5 * (
+            contact_forces[n, 0] * (v0 * dt_old + w0 * dt_new)
+            + contact_forces[n, 1] * (v1 * dt_old + w1 * dt_new)
+            + contact_forces[n, 2] * (v2 * dt_old + w2 * dt_new)
+        )
+        a0 = 0.5 * (v0 + w0)
+        a1 = 0.5 * (v1 + w1)
+        a2 = 0.5 * (v2 + w2)
+        damping_work += damping * m * half * (a0 * a0 + a1 * a1 + a2 * a2)
+        kinetic += 0.5 * m * (w0 * w0 + w1 * w1 + w2 * w2)
+        p0 += m * w0
+        p1 += m * w1
+        p2 += m * w2
+    sums[0] = kinetic
+    sums[1] = contact_work
+    sums[2] = damping_work
+    sums[3] = p0
+    sums[4] = p1
+    sums[5] = p2
 
 
 def lumped_masses(cells: np.ndarray, cell_mass: np.ndarray, n_points: int) -> np.ndarray:
@@ -95,3 +143,103 @@ def lumped_masses(cells: np.ndarray, cell_mass: np.ndarray, n_points: int) -> np
     mass = np.zeros(n_points)
     np.add.at(mass, cells.ravel(), np.repeat(cell_mass / 8.0, 8))
     return mass
+
+
+@nb.njit(fastmath=FASTMATH, cache=True)
+def finish_cycle(
+    energy_increments: np.ndarray,
+    cell_dt: np.ndarray,
+    cell_forces: np.ndarray,
+    nodes: tuple,
+    contacts: tuple,
+    points: np.ndarray,
+    velocities: np.ndarray,
+    clock: np.ndarray,
+    counters: np.ndarray,
+    energies: np.ndarray,
+    limits: np.ndarray,
+    row: np.ndarray,
+) -> int:
+    """The rest of a cycle once the element kernel has run: contact, step, update, checks, record.
+
+    Args:
+        energy_increments: (n_chunks, 3) the element kernel's internal, hourglass, bulk work [J].
+        cell_dt: (n_cells,) element stable steps [s]; cell_forces: (n_cells, 24) [N].
+        nodes: (offsets, entries, mass, contact_forces, sums) of :func:`assemble_and_update`.
+        contacts: (node_ids, stiffness, offsets, kinds, params, reaction) of
+            ``add_rigid_contact_forces``.
+        points, velocities: x^n and v^(n-1/2), advanced in place.
+        clock, counters, energies, limits: see the slot names of this module (in place).
+        row: out, the history row: time, reactions (n_targets x 3), centre-of-mass velocity (3),
+            kinetic, the N_ENERGIES energies, balance error [J], nodes in contact.
+
+    Returns:
+        CYCLE_OK, CYCLE_SEPARATED or a FAIL_* code (the step is then not taken, or for
+        FAIL_NON_FINITE / FAIL_ENERGY taken and recorded; ``counters[ELEMENT]`` names the element).
+    """
+    offsets, entries, mass, contact_forces, sums = nodes
+    node_ids, stiffness, c_offsets, kinds, params, reaction = contacts
+    for c in range(3):
+        total = 0.0
+        for k in range(energy_increments.shape[0]):
+            total += energy_increments[k, c]
+        energies[c] += total
+    contact_forces[:] = 0.0
+    n_active = add_rigid_contact_forces(
+        points, clock[TIME], node_ids, stiffness, c_offsets, kinds, params, contact_forces, reaction
+    )
+    smallest = 0
+    for e in range(cell_dt.shape[0]):
+        if not cell_dt[e] >= cell_dt[smallest]:
+            smallest = e
+    counters[ELEMENT] = smallest
+    if not cell_dt[smallest] > 0.0:
+        return FAIL_INVERTED
+    dt_new = limits[TSSFAC] * cell_dt[smallest]
+    if clock[FIRST_DT] == 0.0:
+        clock[FIRST_DT] = dt_new
+    elif dt_new < limits[MIN_STEP_RATIO] * clock[FIRST_DT]:
+        clock[DT] = dt_new
+        return FAIL_STEP_COLLAPSE
+    assemble_and_update(
+        cell_forces, offsets, entries, contact_forces, mass, limits[DAMPING], clock[DT], dt_new,
+        points, velocities, sums,
+    )
+    energies[3] -= sums[1]
+    energies[4] += sums[2]
+    clock[TIME] += dt_new
+    clock[DT] = dt_new
+    counters[STEP] += 1
+    kinetic = sums[0]
+    balance = kinetic - limits[KINETIC0]
+    for c in range(N_ENERGIES):
+        balance += energies[c]
+    n_targets = reaction.shape[0]
+    row[0] = clock[TIME]
+    for k in range(n_targets):
+        for i in range(3):
+            row[1 + 3 * k + i] = reaction[k, i]
+    base = 1 + 3 * n_targets
+    for i in range(3):
+        row[base + i] = sums[3 + i] / limits[TOTAL_MASS]
+    row[base + 3] = kinetic
+    for c in range(N_ENERGIES):
+        row[base + 4 + c] = energies[c]
+    row[base + 4 + N_ENERGIES] = balance
+    row[base + 5 + N_ENERGIES] = n_active
+    if not (np.isfinite(kinetic) and np.isfinite(balance)):
+        return FAIL_NON_FINITE
+    reference = max(limits[KINETIC0], abs(energies[3]), limits[ENERGY_FLOOR])
+    if abs(balance) > limits[MAX_ENERGY_ERROR] * reference:
+        return FAIL_ENERGY
+    if n_active:
+        if clock[CONTACT_BEGAN] < 0.0:
+            clock[CONTACT_BEGAN] = clock[TIME]
+        clock[LAST_CONTACT] = clock[TIME]
+    if (
+        limits[SEPARATION_TIME] >= 0.0
+        and clock[CONTACT_BEGAN] >= 0.0
+        and clock[TIME] - clock[LAST_CONTACT] > limits[SEPARATION_TIME]
+    ):
+        return CYCLE_SEPARATED
+    return CYCLE_OK
