@@ -159,6 +159,7 @@ def add_rigid_contact_forces(
     params: np.ndarray,
     forces: np.ndarray,
     reaction: np.ndarray,
+    penetration: np.ndarray,
 ) -> int:
     """Add the penalty forces of every target on its slave nodes to ``forces``.
 
@@ -171,12 +172,15 @@ def add_rigid_contact_forces(
             ``RigidPlane.packed``, ``RigidCylinder.packed``).
         forces: (n_points, 3) nodal forces [N], added to in place.
         reaction: (n_targets, 3) out: the force the body exerts on each target [N].
+        penetration: (n_targets,) out: the deepest penetration into each target [m] (0 when
+            apart): the penalty's own compliance, which a displacement reading must remove.
 
     Returns:
         The number of slave nodes in contact.
     """
     normal = np.empty(3)
     reaction[:] = 0.0
+    penetration[:] = 0.0
     n_active = 0
     for k in range(kinds.shape[0]):
         p = params[k]
@@ -191,6 +195,8 @@ def add_rigid_contact_forces(
             )
             if g > 0.0:
                 n_active += 1
+                if g > penetration[k]:
+                    penetration[k] = g
                 for i in range(3):
                     fi = stiffness[s] * g * normal[i]
                     forces[n, i] += fi

@@ -190,6 +190,7 @@ class ExplicitResult:
             balance error (all [J], in ``ENERGY_COLUMNS`` order; the error is the total minus the
             initial kinetic energy, the contact energy being minus the work of the targets).
         contact_nodes: (n_steps,) nodes in contact.
+        penetration: (n_steps, n_contacts) deepest penetration into each target [m].
         frame_times: (n_frames,) [s]; frames: (n_frames, n_points, 3) displacements [m].
         mass: total mass [kg]; phase_seconds: wall time of the element kernel and of the rest of
             the cycle [s] (measured around the two compiled calls).
@@ -200,6 +201,7 @@ class ExplicitResult:
     com_velocity: np.ndarray
     energies: np.ndarray
     contact_nodes: np.ndarray
+    penetration: np.ndarray
     frame_times: np.ndarray
     frames: np.ndarray
     mass: float
@@ -267,11 +269,12 @@ class _Workspace:
         self.contacts = packed_contacts(model.contacts, self.reaction)
         bv = controls.bulk_viscosity
         self.q1, self.q2 = (bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)
-        self.row_width = 1 + 3 * len(model.contacts) + 3 + len(ENERGY_COLUMNS) + 1
+        self.row_width = 1 + 4 * len(model.contacts) + 3 + len(ENERGY_COLUMNS) + 1
 
 
 def packed_contacts(contacts: tuple[RigidContact, ...], reaction: np.ndarray) -> tuple:
-    """The kernel form of the targets: (node_ids, stiffness, offsets, kinds, params, reaction)."""
+    """The kernel form of the targets: (node_ids, stiffness, offsets, kinds, params, reaction,
+    penetration)."""
     packed = [c.target.packed() for c in contacts]
     sizes = [len(c.node_ids) for c in contacts]
     offsets = np.zeros(len(contacts) + 1, dtype=np.int64)
@@ -282,7 +285,7 @@ def packed_contacts(contacts: tuple[RigidContact, ...], reaction: np.ndarray) ->
     from batball.contact.rigid import N_TARGET_PARAMS
 
     params = np.array([p for _, p in packed]).reshape(len(contacts), N_TARGET_PARAMS)
-    return node_ids, stiffness, offsets, kinds, params, reaction
+    return node_ids, stiffness, offsets, kinds, params, reaction, np.zeros(len(contacts))
 
 
 class _Recorder:
@@ -319,6 +322,7 @@ class _Recorder:
             "com_velocity": table[:, 1 + nc : 4 + nc],
             "energies": table[:, 4 + nc : 4 + nc + n_e],
             "contact_nodes": table[:, 4 + nc + n_e].astype(np.int64),
+            "penetration": table[:, 5 + nc + n_e :].copy(),
         }
 
 
@@ -406,7 +410,8 @@ class ExplicitSolver:
             self.raise_failure(status, row)
         self.separated = status == kern.CYCLE_SEPARATED
         nc = 3 * len(self.model.contacts)
-        return float(row[4 + nc]), int(row[-1])
+        n_e = len(ENERGY_COLUMNS)
+        return float(row[4 + nc]), int(row[4 + nc + n_e])
 
     def raise_failure(self, status: int, row: np.ndarray) -> None:
         """Stop with a message that says what failed, where and when."""
@@ -430,7 +435,7 @@ class ExplicitSolver:
             )
         if status == kern.FAIL_NON_FINITE:
             raise SimulationError(f"non-finite kinetic energy or energy balance at {when}")
-        balance = row[-2]
+        balance = row[3 + 3 * len(self.model.contacts) + len(ENERGY_COLUMNS)]
         reference = max(self.kinetic0, abs(s.energies[3]), self.controls.energy_floor)
         raise SimulationError(
             f"energy balance error reached {100 * balance / reference:+.1f} % of the initial "
@@ -469,6 +474,7 @@ class ExplicitSolver:
             com_velocity=arrays["com_velocity"],
             energies=arrays["energies"],
             contact_nodes=arrays["contact_nodes"],
+            penetration=arrays["penetration"],
             frame_times=np.array(rec.frame_times),
             frames=np.stack(rec.frames),
             mass=self.total_mass,

@@ -166,19 +166,20 @@ def finish_cycle(
         energy_increments: (n_chunks, 3) the element kernel's internal, hourglass, bulk work [J].
         cell_dt: (n_cells,) element stable steps [s]; cell_forces: (n_cells, 24) [N].
         nodes: (offsets, entries, mass, contact_forces, sums) of :func:`assemble_and_update`.
-        contacts: (node_ids, stiffness, offsets, kinds, params, reaction) of
+        contacts: (node_ids, stiffness, offsets, kinds, params, reaction, penetration) of
             ``add_rigid_contact_forces``.
         points, velocities: x^n and v^(n-1/2), advanced in place.
         clock, counters, energies, limits: see the slot names of this module (in place).
         row: out, the history row: time, reactions (n_targets x 3), centre-of-mass velocity (3),
-            kinetic, the N_ENERGIES energies, balance error [J], nodes in contact.
+            kinetic, the N_ENERGIES energies, balance error [J], nodes in contact, deepest
+            penetration into each target (n_targets) [m].
 
     Returns:
         CYCLE_OK, CYCLE_SEPARATED or a FAIL_* code (the step is then not taken, or for
         FAIL_NON_FINITE / FAIL_ENERGY taken and recorded; ``counters[ELEMENT]`` names the element).
     """
     offsets, entries, mass, contact_forces, sums = nodes
-    node_ids, stiffness, c_offsets, kinds, params, reaction = contacts
+    node_ids, stiffness, c_offsets, kinds, params, reaction, penetration = contacts
     for c in range(3):
         total = 0.0
         for k in range(energy_increments.shape[0]):
@@ -186,7 +187,8 @@ def finish_cycle(
         energies[c] += total
     contact_forces[:] = 0.0
     n_active = add_rigid_contact_forces(
-        points, clock[TIME], node_ids, stiffness, c_offsets, kinds, params, contact_forces, reaction
+        points, clock[TIME], node_ids, stiffness, c_offsets, kinds, params, contact_forces,
+        reaction, penetration,
     )
     smallest = 0
     for e in range(cell_dt.shape[0]):
@@ -227,6 +229,8 @@ def finish_cycle(
         row[base + 4 + c] = energies[c]
     row[base + 4 + N_ENERGIES] = balance
     row[base + 5 + N_ENERGIES] = n_active
+    for k in range(n_targets):
+        row[base + 6 + N_ENERGIES + k] = penetration[k]
     if not (np.isfinite(kinetic) and np.isfinite(balance)):
         return FAIL_NON_FINITE
     reference = max(limits[KINETIC0], abs(energies[3]), limits[ENERGY_FLOOR])
