@@ -66,7 +66,80 @@ def build_parser() -> argparse.ArgumentParser:
     add_props_parser(sub)
     add_fit_bat_parser(sub)
     add_modal_parser(sub)
+    add_compression_parser(sub)
     return parser
+
+
+def add_compression_parser(sub: Any) -> None:
+    """``batball compression``: the ball's compression between flat plates (ASTM F1888)."""
+    help_text = "ball compression: force at 0.25 in between flat plates at 1 in/min (ASTM F1888)"
+    p = sub.add_parser("compression", help=help_text, description=help_text)
+    p.add_argument("--ball", default="type1", help="embedded ball (type1, type2) or a TOML file")
+    p.add_argument("--displacement", default="0.25 in", help="plate travel (default '0.25 in')")
+    p.add_argument("--rate", default="1 in/min", help="plate speed (default '1 in/min')")
+    p.add_argument(
+        "--divisions", type=int, default=12, help="ball mesh size (12 = 12,096 hexes; default 12)"
+    )
+    p.add_argument("--hourglass-type", type=int, default=1, help="LS-DYNA IHQ 1-5 (default 1)")
+    p.add_argument("--hourglass-coefficient", type=float, default=0.1, help="QH/QM (0.1)")
+    p.add_argument(
+        "--quasi-static-ratio",
+        type=float,
+        default=60.0,
+        help="loading time in radians of the mass-scaled squash mode (default 60)",
+    )
+    add_store_options(p)
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(handler=run_compression_command)
+
+
+def run_compression_command(args: argparse.Namespace) -> int:
+    """``batball compression``."""
+    from batball.lab.compression import CompressionSetup
+    from batball.lab.compression_run import run_compression_test
+    from batball.solvers.explicit import HourglassControl
+    from batball.specs import load_ball_spec
+    from batball.units import parse_quantity
+
+    ball = load_ball_spec(args.ball)
+    setup = CompressionSetup(
+        displacement=parse_quantity(args.displacement, "length", field="displacement"),
+        rate=parse_quantity(args.rate, "velocity", field="rate"),
+        divisions=args.divisions,
+        hourglass=HourglassControl(
+            type=args.hourglass_type, coefficient=args.hourglass_coefficient
+        ),
+        quasi_static_ratio=args.quasi_static_ratio,
+    )
+    update, bar = progress_bar(setup.displacement / setup.rate, enabled=True, unit="s")
+    try:
+        summary, _ = run_compression_test(
+            ball, setup, runs_dir=args.runs_dir, reuse=not args.no_reuse, progress=update
+        )
+    finally:
+        bar.close()
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        print(describe_compression(summary))
+    return 0
+
+
+def describe_compression(s: dict[str, Any]) -> str:
+    """A short human report of a compression summary, every number with its unit."""
+    return "\n".join(
+        [
+            f"Compression of ball {s['ball']} ({s['ball_mass_oz']:.2f} oz), "
+            f"{s['displacement_in']:.3g} in at {s['rate_in_per_min']:.3g} in/min",
+            f"  {'compression':<26} {s['compression_lbf']:.1f} lbf",
+            f"  {'kinetic / internal energy':<26} {100 * s['kinetic_to_internal_energy']:.3f} %",
+            f"  {'top - bottom plate force':<26} "
+            f"{100 * s['plate_force_difference_fraction']:.2f} % of the force",
+            f"  {'energy balance error':<26} {100 * s['energy_balance_error']:.3f} %",
+            f"  {s['n_cells']} hexes, {s['n_steps']} steps, {s['wall_seconds']:.1f} s",
+            f"  results in {s['run_folder']}",
+        ]
+    )
 
 
 def add_bat_mesh_options(p: Any) -> None:
@@ -273,21 +346,24 @@ def impact_setup(args: argparse.Namespace) -> Any:
     )
 
 
-def progress_bar(end_time: float, enabled: bool) -> tuple[Callable[[float], None], Any]:
-    """A tqdm bar over simulated time (ms) on stderr; shown only on a terminal."""
+def progress_bar(
+    end_time: float, enabled: bool, unit: str = "ms"
+) -> tuple[Callable[[float], None], Any]:
+    """A tqdm bar over simulated time (in ``unit``, ms or s) on stderr; only on a terminal."""
     from tqdm import tqdm
 
+    factor = 1e3 if unit == "ms" else 1.0
     bar = tqdm(
-        total=round(end_time * 1e3, 3),
-        unit="ms",
+        total=round(end_time * factor, 3),
+        unit=unit,
         desc="simulated",
         leave=False,
         disable=None if enabled else True,
-        bar_format="{l_bar}{bar}| {n:.2f}/{total} ms",
+        bar_format="{l_bar}{bar}| {n:.2f}/{total} " + unit,
     )
 
     def update(t: float) -> None:
-        bar.n = round(t * 1e3, 3)
+        bar.n = round(t * factor, 3)
         bar.refresh()
 
     return update, bar

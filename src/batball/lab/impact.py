@@ -149,24 +149,52 @@ def ball_contact_stiffness(
     return nodes, np.maximum(k0, options.sofscl * k1)
 
 
-def build_impact_model(ball: BallSpec, setup: ImpactSetup) -> Model:
-    """The ball mesh, material, initial velocity and target of an impact test."""
-    mesh = make_ball_mesh(ball.radius, divisions=setup.divisions)
+@dataclass(frozen=True)
+class BallBody:
+    """The meshed ball every ball test starts from: mesh, kernel constants, density and the
+    penalty stiffness of its surface nodes [N/m]."""
+
+    mesh: Mesh
+    constants: np.ndarray
+    density: float
+    nodes: np.ndarray
+    stiffness: np.ndarray
+
+
+def ball_body(
+    ball: BallSpec,
+    divisions: int,
+    contact: ContactOptions,
+    time_step_scale: float,
+    mass_scale: float = 1.0,
+) -> BallBody:
+    """Mesh the ball, take its material constants, and size its contact penalty.
+
+    ``mass_scale`` multiplies the density the SOFT = 1 stiffness sees (quasi-static tests).
+    """
+    mesh = make_ball_mesh(ball.radius, divisions=divisions)
     constants = MATERIAL_LAWS[ball.material.law].kernel_constants(ball.material.values)
     # the FE ball weighs exactly the spec mass: density on the faceted mesh volume
     density = ball.mass / float(hex_volumes(mesh.points, mesh.cells).sum())
-    first_dt = estimate_first_step(mesh, constants, density) * setup.time_step_scale
-    nodes, stiffness = ball_contact_stiffness(
-        mesh, float(constants[0]), density, setup.contact, first_dt
-    )
+    scaled = density * mass_scale
+    first_dt = estimate_first_step(mesh, constants, scaled) * time_step_scale
+    nodes, stiffness = ball_contact_stiffness(mesh, float(constants[0]), scaled, contact, first_dt)
+    return BallBody(mesh, constants, density, nodes, stiffness)
+
+
+def build_impact_model(ball: BallSpec, setup: ImpactSetup) -> Model:
+    """The ball mesh, material, initial velocity and target of an impact test."""
+    body = ball_body(ball, setup.divisions, setup.contact, setup.time_step_scale)
+    mesh = body.mesh
     velocity = np.zeros((mesh.n_points, 3))
     velocity[:, 2] = -setup.speed
+    target = make_target(setup, ball.radius)
     return Model(
         mesh=mesh,
         cell_material=np.zeros(mesh.n_cells, dtype=np.int64),
-        material_constants=constants[None, :],
-        densities=np.array([density]),
-        contacts=(RigidContact(setup.test, make_target(setup, ball.radius), nodes, stiffness),),
+        material_constants=body.constants[None, :],
+        densities=np.array([body.density]),
+        contacts=(RigidContact(setup.test, target, body.nodes, body.stiffness),),
         initial_velocity=velocity,
     )
 

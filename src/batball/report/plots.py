@@ -19,20 +19,50 @@ def plot_force_time(
     Args:
         time: (n,) [s]; force: (n,) [N]; threshold: the contact-time level [N], drawn if given.
     """
+    level = None if threshold is None else (threshold / LBF, "contact-time level")
+    plot_lines(
+        path,
+        [(time * 1e3, force / LBF, "load cell")],
+        xlabel="time (ms)",
+        ylabel="force (lbf)",
+        title=title,
+        level=level,
+    )
+
+
+def plot_lines(
+    path: Path,
+    lines: list[tuple[np.ndarray, np.ndarray, str]],
+    *,
+    xlabel: str,
+    ylabel: str,
+    title: str,
+    level: tuple[float, str] | None = None,
+    points: list[tuple[float, float, str]] | None = None,
+) -> None:
+    """Labelled curves (already in display units), a dashed level and marked points, as PNG.
+
+    Args:
+        lines: (x, y, label) per curve; xlabel, ylabel: axis names with their units.
+        level: (y, label) of a horizontal dashed line; points: (x, y, label) markers.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=120)
-    ax.plot(time * 1e3, force / LBF, lw=1.2, color="tab:blue", label="load cell")
-    if threshold is not None:
-        ax.axhline(threshold / LBF, color="0.6", lw=0.8, ls="--", label="contact-time level")
-    ax.set_xlabel("time (ms)")
-    ax.set_ylabel("force (lbf)")
+    for x, y, label in lines:
+        ax.plot(x, y, lw=1.2, label=label)
+    if level is not None:
+        ax.axhline(level[0], color="0.6", lw=0.8, ls="--", label=level[1])
+    for px, py, plabel in points or []:
+        ax.plot([px], [py], "o", color="tab:red", label=plabel)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    ax.legend(loc="upper right")
+    ax.legend(loc="best")
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp)

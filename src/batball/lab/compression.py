@@ -1,0 +1,246 @@
+"""The virtual ball-compression test (ASTM F1888; physics.md section 3.2; seed "Ball Compression").
+
+The ball sits between two rigid flat plates; the bottom plate is fixed and the top plate moves
+down at the test's rate (1 in/min) until it has travelled 0.25 in; the force at 0.25 in is the
+ball's compression. The ball is an isotropic sphere here (no seams are modelled), compressed along
+the mesh's z axis.
+
+How it is solved, and why it is quasi-static. The seed solved this implicitly. Here the explicit
+solver runs it in *real time* with mass scaling and light damping (a dynamic relaxation that keeps
+the true time axis):
+
+* The plate moves at the real 1 in/min, so the loading lasts the real 15 s and the viscoelastic
+  law sees the real strain rates; MAT_006 relaxes to G_inf within a few 1/beta (about 13 us for
+  the seed's balls), which is what governs the compression force.
+* The density is multiplied by s, which slows every vibration of the ball by sqrt(s) and lengthens
+  the stable step by sqrt(s) without changing any static answer. s is chosen so that the loading
+  time is ``quasi_static_ratio`` radians of the ball's lowest "squash" mode (the ball's mass on
+  the two Hertz contacts at full travel); the run then takes about ratio / (omega dt) steps.
+* The plates push through penalty contact, whose springs let the ball sink a little into each
+  plate. The test's displacement is the ball's own deformation (rigid plates in the lab), so it
+  is read as the plate travel minus the deepest penetration into each plate, and the run goes on
+  past 0.25 in of travel until the deformation has reached 0.25 in.
+* Mass-proportional damping at ``damping_ratio`` of that mode's critical damping removes the
+  start-up ring. Its drag on the ball's rigid drift (the centre moves at half the plate speed)
+  loads the two plates unequally by the same amount, so the reported force is the mean of the
+  top and bottom plate forces, and their difference is reported as a check.
+
+Quasi-static checks reported with every run: kinetic over internal energy at the end, the
+top-bottom force difference, and the energy balance against the plates' work. That the answer
+does not depend on the solver's loading rate is shown by running two ratios
+(``tests/verification/test_compression.py``, ``docs/compression.md``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from batball.contact.rigid import RigidPlane
+from batball.errors import SimulationError, SpecError
+from batball.lab.impact import ContactOptions, ball_body
+from batball.mesh import Mesh
+from batball.solvers.explicit import (
+    BulkViscosity,
+    ExplicitControls,
+    ExplicitResult,
+    HourglassControl,
+    Model,
+    RigidContact,
+    run_explicit,
+)
+from batball.specs import BallSpec
+
+IN = 0.0254  # m
+#: Plate travel allowed beyond the test displacement, for the penalty contact's penetration.
+TRAVEL_MARGIN = 1.1
+
+
+@dataclass(frozen=True)
+class CompressionSetup:
+    """One compression test.
+
+    Attributes:
+        displacement: the plate travel at which the force is read [m] (F1888: 0.25 in).
+        rate: the plate speed [m/s] (F1888: 1 in/min).
+        divisions: ball mesh size (12 = the seed's 12,096 hexes).
+        quasi_static_ratio: the loading time in radians of the mass-scaled ball's squash mode,
+            omega' T (the solver's loading rate: larger is slower and closer to static, and costs
+            proportionally more steps).
+        damping_ratio: mass-proportional damping as a fraction of critical for that mode.
+        samples: points of the force-displacement curve kept for the CSV and the plot.
+    """
+
+    displacement: float = 0.25 * IN
+    rate: float = IN / 60.0
+    divisions: int = 12
+    hourglass: HourglassControl = field(default_factory=HourglassControl)
+    bulk_viscosity: BulkViscosity = field(default_factory=BulkViscosity)
+    contact: ContactOptions = field(default_factory=ContactOptions)
+    time_step_scale: float = 0.9
+    quasi_static_ratio: float = 60.0
+    damping_ratio: float = 0.1
+    samples: int = 201
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.displacement) and 0 < self.displacement <= 1.0 * IN):
+            raise SpecError(
+                "displacement", f"{self.displacement / IN:.4g} in", "0 in < displacement <= 1 in"
+            )
+        if not (np.isfinite(self.rate) and 0 < self.rate <= 1.0):
+            raise SpecError(
+                "rate", f"{self.rate / IN * 60:.4g} in/min", "0 < rate <= 2362 in/min (1 m/s)"
+            )
+        if not 2 <= self.divisions <= 40:
+            raise SpecError("divisions", self.divisions, "an integer 2..40 (12 = seed mesh)")
+        if not 10.0 <= self.quasi_static_ratio <= 1e4:
+            raise SpecError("quasi_static_ratio", self.quasi_static_ratio, "10 <= ratio <= 10000")
+        if not 0.0 <= self.damping_ratio <= 2.0:
+            raise SpecError("damping_ratio", self.damping_ratio, "0 <= damping ratio <= 2")
+        if not 2 <= self.samples <= 100_000:
+            raise SpecError("samples", self.samples, "2..100000 curve points")
+
+
+@dataclass(frozen=True)
+class CompressionResult:
+    """A compression run: the curve, the reading at full travel and the quasi-static checks.
+
+    Attributes:
+        displacement, force: (samples,) the ball's deformation (plate travel minus the contact
+            penetrations) [m] and the mean plate force [N].
+        force_difference: (samples,) top minus bottom plate force [N].
+        penetration: the contact penetration (both plates) at full deformation [m].
+        compression: the force at ``setup.displacement`` [N].
+        kinetic_to_internal: kinetic over internal energy at the end.
+        mass_scale: the density factor s; damping: the damping coefficient [1/s].
+    """
+
+    ball: BallSpec
+    setup: CompressionSetup
+    mesh: Mesh
+    run: ExplicitResult
+    displacement: np.ndarray
+    force: np.ndarray
+    force_difference: np.ndarray
+    penetration: float
+    compression: float
+    kinetic_to_internal: float
+    energy_balance_error: float
+    mass_scale: float
+    damping: float
+
+
+def relaxed_hertz(constants: np.ndarray, radius: float, approach: float) -> tuple[float, float]:
+    """Hertz force and tangent stiffness [N, N/m] of a sphere of the relaxed (G_inf, K) material
+    squeezed by ``approach`` between two rigid plates (each contact takes half).
+
+    F = 4/3 E* sqrt(R) (d/2)^(3/2), E* = E / (1 - nu^2) with E, nu from K and G_inf
+    (verification.md, Hertz; Johnson, Contact Mechanics, section 4.2).
+    """
+    bulk, g_inf = float(constants[0]), float(constants[2])
+    young = 9.0 * bulk * g_inf / (3.0 * bulk + g_inf)
+    nu = (3.0 * bulk - 2.0 * g_inf) / (2.0 * (3.0 * bulk + g_inf))
+    e_star = young / (1.0 - nu**2)
+    delta = 0.5 * approach
+    force = 4.0 / 3.0 * e_star * np.sqrt(radius) * delta**1.5
+    # dF/d(approach) = dF/d(delta) / 2 = 2 E* sqrt(R delta) / 2
+    stiffness = e_star * np.sqrt(radius * delta)
+    return force, stiffness
+
+
+def loading_plan(
+    ball: BallSpec, setup: CompressionSetup, constants: np.ndarray, mass: float
+) -> tuple[float, float]:
+    """The density factor s and the damping coefficient c [1/s] of the run (module docstring).
+
+    The squash mode: the ball's mass on the plates' Hertz tangent stiffness at full travel,
+    omega = sqrt(k / (m / 2)) (half the mass moves against each contact). s makes
+    omega / sqrt(s) * T equal ``quasi_static_ratio``; never below 1 (no mass scaling).
+    """
+    _, k = relaxed_hertz(constants, ball.radius, setup.displacement)
+    omega = np.sqrt(k / (0.5 * mass))
+    loading_time = setup.displacement / setup.rate
+    scale = max(1.0, (omega * loading_time / setup.quasi_static_ratio) ** 2)
+    omega_scaled = omega / np.sqrt(scale)
+    return float(scale), float(2.0 * setup.damping_ratio * omega_scaled)
+
+
+def build_compression_model(ball: BallSpec, setup: CompressionSetup) -> tuple[Model, float, float]:
+    """The mass-scaled ball between its plates; returns (model, mass scale, damping [1/s])."""
+    body = ball_body(ball, setup.divisions, setup.contact, setup.time_step_scale)
+    scale, damping = loading_plan(ball, setup, body.constants, ball.mass)
+    if setup.contact.soft == 1:  # the stability penalty scales with the (scaled) nodal mass
+        body = ball_body(ball, setup.divisions, setup.contact, setup.time_step_scale, scale)
+    r = ball.radius
+    bottom = RigidPlane(point=np.array([0.0, 0.0, -r]), normal=np.array([0.0, 0.0, 1.0]))
+    top = RigidPlane(
+        point=np.array([0.0, 0.0, r]),
+        normal=np.array([0.0, 0.0, -1.0]),
+        velocity=np.array([0.0, 0.0, -setup.rate]),
+    )
+    mesh = body.mesh
+    model = Model(
+        mesh=mesh,
+        cell_material=np.zeros(mesh.n_cells, dtype=np.int64),
+        material_constants=body.constants[None, :],
+        densities=np.array([body.density * scale]),
+        contacts=(
+            RigidContact("top", top, body.nodes, body.stiffness),
+            RigidContact("bottom", bottom, body.nodes, body.stiffness),
+        ),
+        initial_velocity=np.zeros((mesh.n_points, 3)),
+    )
+    return model, scale, damping
+
+
+def run_compression(
+    ball: BallSpec, setup: CompressionSetup, *, progress: Callable[[float], None] | None = None
+) -> CompressionResult:
+    """Build, run and measure one compression test."""
+    model, scale, damping = build_compression_model(ball, setup)
+    loading_time = setup.displacement / setup.rate
+    hertz_work = relaxed_hertz(model.material_constants[0], ball.radius, setup.displacement)[0]
+    controls = ExplicitControls(
+        end_time=TRAVEL_MARGIN * loading_time,
+        time_step_scale=setup.time_step_scale,
+        hourglass=setup.hourglass,
+        bulk_viscosity=setup.bulk_viscosity,
+        mass_damping=damping,
+        frame_count=20,
+        # 1 % of the Hertz estimate of the plates' work: below it the balance is not checked
+        energy_floor=0.01 * 0.4 * hertz_work * setup.displacement,
+    )
+    run = run_explicit(model, controls, progress=progress)
+    sunk = run.penetration.sum(axis=1)
+    deformation = np.maximum.accumulate(setup.rate * run.time - sunk)
+    if deformation[-1] < setup.displacement:
+        raise SimulationError(
+            f"the ball deformed only {deformation[-1] / IN:.4f} in after "
+            f"{setup.rate * run.time[-1] / IN:.4f} in of plate travel: the contact penalty lets "
+            f"it sink {sunk[-1] / IN:.4f} in into the plates; raise the contact scale (SFS)"
+        )
+    top = run.reaction[:, 0, 2]
+    bottom = -run.reaction[:, 1, 2]
+    grid = np.linspace(0.0, setup.displacement, setup.samples)
+    force = np.interp(grid, deformation, 0.5 * (top + bottom))
+    difference = np.interp(grid, deformation, top - bottom)
+    at_end = int(np.searchsorted(deformation, setup.displacement))
+    energies = run.energies[-1]
+    external = abs(energies[4])
+    return CompressionResult(
+        ball=ball,
+        setup=setup,
+        mesh=model.mesh,
+        run=run,
+        displacement=grid,
+        force=force,
+        force_difference=difference,
+        penetration=float(sunk[at_end]),
+        compression=float(force[-1]),
+        kinetic_to_internal=float(energies[0] / max(energies[1], 1e-300)),
+        energy_balance_error=float(np.abs(run.energies[:, -1]).max() / max(external, 1e-300)),
+        mass_scale=scale,
+        damping=damping,
+    )
