@@ -43,7 +43,7 @@ class MeshSizes:
 
 #: The full-size meshes (the seed's ball; the default bat mesh of ``batball props``/``modal``).
 FULL_MESHES = MeshSizes(ball_divisions=12, bat_circumferential=48, bat_axial_size=0.1 * IN)
-#: ``--quick``: coarse meshes for CI and a first look (448-1,512 hexes, ~2,000 shells).
+#: ``--quick``: coarse meshes for CI and a first look (1,512 hexes per ball, 2,832 bat shells).
 QUICK_MESHES = MeshSizes(ball_divisions=6, bat_circumferential=16, bat_axial_size=0.25 * IN)
 
 
