@@ -172,6 +172,10 @@ FIGURE_SECTIONS = (
 )
 
 
+#: Sections whose figures hold several panels: shown at full page width.
+WIDE_SECTIONS = ("energy", "bat", "modes")
+
+
 def figures_section(result: Reproduction) -> str:
     """Every figure, grouped; a group with no figure says so."""
     parts = ["<h2 id='figures'>Figures</h2>"]
@@ -184,9 +188,10 @@ def figures_section(result: Reproduction) -> str:
         parts.append(f"<h3>{escape(heading)}</h3>")
         if not figures:
             parts.append(f"<p class='note missing'>{NOT_YET}</p>")
+        css = " class='wide'" if section in WIDE_SECTIONS else ""
         for f in figures:
             parts.append(
-                f"<figure><img src='figures/{escape(f.name)}' alt='{escape(f.caption)}'>"
+                f"<figure{css}><img src='figures/{escape(f.name)}' alt='{escape(f.caption)}'>"
                 f"<figcaption>{escape(f.caption)}</figcaption></figure>"
             )
     return "".join(parts)
@@ -268,10 +273,15 @@ def runs_table(outcomes: Iterable[TestOutcome]) -> str:
                 f"<td class='label'><code>{escape(r.folder.as_posix())}</code></td></tr>"
             )
     head = (
-        "<tr><th class='label'>run</th><th>elements</th><th>wall when computed (s)</th>"
-        "<th>wall now (s)</th><th class='label'>run folder</th></tr>"
+        "<tr><th class='label'>run</th><th>elements</th><th>test's wall time, stored (s)</th>"
+        "<th>wall time here (s)</th><th class='label'>run folder</th></tr>"
     )
     return f"<table>{head}{''.join(rows)}</table>"
+
+
+def load_text(load: list[float] | None) -> str:
+    """The load average as ``"3.1, 2.9, 2.5"``, or ``"unknown"``."""
+    return "unknown" if not load else ", ".join(f"{x:.2f}" for x in load)
 
 
 def inputs_section(result: Reproduction) -> str:
@@ -295,7 +305,7 @@ def inputs_section(result: Reproduction) -> str:
             ("cpu", env["cpu"]),
             ("cpu count", env["cpu_count"]),
             ("NUMBA_NUM_THREADS", env["numba_num_threads"]),
-            ("load average (1, 5, 15 min)", env["load_average_1_5_15_min"]),
+            ("load average (1, 5, 15 min)", load_text(env["load_average_1_5_15_min"])),
         ]
     )
     return (
