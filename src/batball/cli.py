@@ -369,8 +369,23 @@ def run_reproduce_command(args: argparse.Namespace) -> int:
                                meshes=QUICK_MESHES if args.quick else FULL_MESHES,
                                reuse=not args.no_reuse, command=command)  # fmt: skip
     result = reproduce(options)
-    print(dump_summary(result) if args.json else (args.out / "index.html").as_posix())
+    print(dump_summary(result) if args.json else describe_reproduction(result))
     return 0
+
+
+def describe_reproduction(result: Any) -> str:
+    """Where the report is, how batball compares with the seed's LS-DYNA, what is missing."""
+    from batball.report.reproduce_html import verdict_counts
+
+    counts = verdict_counts(result)
+    missing = ", ".join(o.test.name for o in result.outcomes if not o.available) or "none"
+    return "\n".join([
+        f"report: {(result.options.out_dir / 'index.html').as_posix()}",
+        f"  batball closer to the experiment than the seed's LS-DYNA in {counts['closer']} cells, "
+        f"as close in {counts['tie']}, farther in {counts['farther']}",
+        f"  not yet available: {missing}",
+        f"  {result.seconds:.1f} s",
+    ])  # fmt: skip
 
 
 def main(argv: Sequence[str] | None = None) -> int:
