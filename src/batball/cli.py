@@ -59,6 +59,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The ``batball`` parser with its subcommands."""
     parser = argparse.ArgumentParser(prog="batball", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
+    add_reproduce_parser(sub)  # the main job first in the help
     add_impact_parser(
         sub, "ccor", "CCOR and dynamic stiffness against the 2.63-in half-cylinder (ASTM F2845)"
     )
@@ -66,7 +67,6 @@ def build_parser() -> argparse.ArgumentParser:
     add_props_parser(sub)
     add_fit_bat_parser(sub)
     add_modal_parser(sub)
-    add_reproduce_parser(sub)
     return parser
 
 
