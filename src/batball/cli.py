@@ -59,6 +59,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The ``batball`` parser with its subcommands."""
     parser = argparse.ArgumentParser(prog="batball", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
+    add_reproduce_parser(sub)  # the main job first in the help
     add_impact_parser(
         sub, "ccor", "CCOR and dynamic stiffness against the 2.63-in half-cylinder (ASTM F2845)"
     )
@@ -407,6 +408,60 @@ def describe_impact(s: dict[str, Any]) -> str:
             f"  results in {s['run_folder']}",
         ]
     )
+
+
+# --- batball reproduce ---------------------------------------------------------------------------
+
+
+def add_reproduce_parser(sub: Any) -> None:
+    """``batball reproduce``: every available test of the seed study, as an HTML report."""
+    help_text = "rerun the seed study (Tables 1-9) and write an HTML report with figures"
+    p = sub.add_parser("reproduce", help=help_text, description=help_text)
+    p.add_argument(
+        "--quick",
+        action="store_true",
+        help="coarse meshes (ball divisions 6, 16 bat shells around): a first look, CI",
+    )
+    p.add_argument("--out", type=Path, default=Path("report"), help="report folder (report/)")
+    add_store_options(p)
+    p.add_argument("--json", action="store_true", help="print summary.json on stdout")
+    p.set_defaults(handler=run_reproduce_command)  # fmt: skip
+
+
+def run_reproduce_command(args: argparse.Namespace) -> int:
+    """``batball reproduce``; progress on stderr, the report's path (or its JSON) on stdout."""
+    from batball.report.reproduce import (
+        FULL_MESHES,
+        QUICK_MESHES,
+        ReproduceOptions,
+        dump_summary,
+        reproduce,
+    )
+
+    command = " ".join(["batball", "reproduce", *(["--quick"] if args.quick else []),
+                        "--out", args.out.as_posix(), "--runs-dir", args.runs_dir.as_posix(),
+                        *(["--no-reuse"] if args.no_reuse else [])])  # fmt: skip
+    options = ReproduceOptions(out_dir=args.out, runs_dir=args.runs_dir,
+                               meshes=QUICK_MESHES if args.quick else FULL_MESHES,
+                               reuse=not args.no_reuse, command=command)  # fmt: skip
+    result = reproduce(options)
+    print(dump_summary(result) if args.json else describe_reproduction(result))
+    return 0
+
+
+def describe_reproduction(result: Any) -> str:
+    """Where the report is, how batball compares with the seed's LS-DYNA, what is missing."""
+    from batball.report.reproduce_html import verdict_counts
+
+    counts = verdict_counts(result)
+    missing = ", ".join(o.test.name for o in result.outcomes if not o.available) or "none"
+    return "\n".join([
+        f"report: {(result.options.out_dir / 'index.html').as_posix()}",
+        f"  batball closer to the experiment than the seed's LS-DYNA in {counts['closer']} cells, "
+        f"as close in {counts['tie']}, farther in {counts['farther']}",
+        f"  not yet available: {missing}",
+        f"  {result.seconds:.1f} s",
+    ])  # fmt: skip
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -1,0 +1,531 @@
+"""``batball reproduce``: the seed study rerun in one command, written as an HTML report.
+
+A registry (:data:`REPRODUCTION_TESTS`) names each virtual test of the study, the seed tables it
+fills and its runner. A runner runs (or reuses from the run store) the test on the embedded balls
+and bat and returns its runs: summaries, the values keyed as the tables' rows
+(:mod:`batball.report.seed_comparison`) and the figures to show. A test whose code is not there
+yet has no runner, or raises :class:`NotYetAvailableError`, and the report says "not yet available"
+where its numbers would be: no value in the report comes from anywhere but a run.
+
+Output, in ``out_dir``: ``index.html`` (static, inline CSS), ``summary.json``, ``<table>.csv`` per
+table and ``figures/*.png``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from batball.io.store import load_cached_summary, write_json_atomic, write_text_atomic
+from batball.report.seed_comparison import BALL_CASES, ComparisonTable, comparison_tables
+from batball.specs import BallSpec, BatSpec, load_ball_spec, load_bat_spec, load_seed_tables
+
+MPH = 0.44704  # m/s
+IN = 0.0254  # m
+PSI = 6894.757293168361  # Pa
+
+
+@dataclass(frozen=True)
+class MeshSizes:
+    """Mesh density of every test: ball divisions (12 = the seed's 12,096 hexes), bat shells."""
+
+    ball_divisions: int
+    bat_circumferential: int
+    bat_axial_size: float  # m
+
+
+#: The full-size meshes (the seed's ball; the default bat mesh of ``batball props``/``modal``).
+FULL_MESHES = MeshSizes(ball_divisions=12, bat_circumferential=48, bat_axial_size=0.1 * IN)
+#: ``--quick``: coarse meshes for CI and a first look (1,512 hexes per ball, 2,832 bat shells).
+QUICK_MESHES = MeshSizes(ball_divisions=6, bat_circumferential=16, bat_axial_size=0.25 * IN)
+
+
+def log_to_stderr(message: str) -> None:
+    """Progress line on stderr."""
+    print(f"[reproduce] {message}", file=sys.stderr, flush=True)
+
+
+@dataclass(frozen=True)
+class ReproduceOptions:
+    """What to run and where.
+
+    Attributes:
+        out_dir: the report folder (created).
+        runs_dir: the run store; runs with unchanged inputs are reused from it.
+        meshes: mesh sizes (:data:`FULL_MESHES` or :data:`QUICK_MESHES`).
+        reuse: reuse stored runs (False reruns everything).
+        balls: embedded balls to test; bat: the embedded bat.
+        log: progress sink.
+        command: the command line, as the report states it.
+    """
+
+    out_dir: Path
+    runs_dir: Path
+    meshes: MeshSizes = FULL_MESHES
+    reuse: bool = True
+    balls: tuple[str, ...] = ("type1", "type2")
+    bat: str = "default"
+    log: Callable[[str], None] = log_to_stderr
+    command: str = "batball reproduce"
+
+
+@dataclass(frozen=True)
+class ReportFigure:
+    """A PNG to show: its file, its name under ``out_dir/figures``, caption and page section."""
+
+    source: Path
+    name: str
+    caption: str
+    section: str
+
+
+@dataclass(frozen=True)
+class TestRun:
+    """One run of a test: its summary and folder, whether it was reused, and what it measured."""
+
+    label: str
+    summary: dict[str, Any]
+    folder: Path
+    reused: bool
+    seconds: float  # wall time in this invocation (near 0 when reused)
+    values: dict[str, float]
+    figures: tuple[ReportFigure, ...] = ()
+
+
+@dataclass(frozen=True)
+class RunnerOutput:
+    """What a runner returns: its runs and any figures drawn from several of them."""
+
+    runs: tuple[TestRun, ...]
+    figures: tuple[ReportFigure, ...] = ()
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """The specs every runner shares (loaded once) and the options."""
+
+    options: ReproduceOptions
+    balls: tuple[BallSpec, ...]
+    bat: BatSpec
+
+    @property
+    def figures_dir(self) -> Path:
+        return self.options.out_dir / "figures"
+
+
+class NotYetAvailableError(Exception):
+    """A registered test whose code is not in this installation yet; the message says why."""
+
+
+Runner = Callable[[Inputs], RunnerOutput]
+
+
+@dataclass(frozen=True)
+class ReproductionTest:
+    """An entry of the registry: a virtual test of the study and how it fills the tables.
+
+    Attributes:
+        name: the name users type (``"ccor"``); tables refer to it.
+        title: what it is, with its standard.
+        tables: ids of the tables it fills (``"table5"``).
+        run: the runner, or None while the test does not exist.
+        missing: why it is not yet available (when ``run`` is None).
+    """
+
+    name: str
+    title: str
+    tables: tuple[str, ...]
+    run: Runner | None
+    missing: str = ""
+
+
+@dataclass(frozen=True)
+class TestOutcome:
+    """A registry test after the reproduction: its runs, or why there are none."""
+
+    test: ReproductionTest
+    runs: tuple[TestRun, ...] = ()
+    figures: tuple[ReportFigure, ...] = ()
+    missing: str = ""
+    seconds: float = 0.0
+
+    @property
+    def available(self) -> bool:
+        return not self.missing
+
+
+def timed_run(
+    inputs: Inputs, label: str, call: Callable[[], tuple[dict[str, Any], Path]]
+) -> tuple[dict[str, Any], Path, bool, float]:
+    """Call a ``run_*_test``; returns its summary, folder, whether it was reused and the seconds.
+
+    A run counts as reused when its folder held a complete summary before the call.
+    """
+    runs_dir = inputs.options.runs_dir
+    stored = (
+        {p.parent.name for p in runs_dir.glob("*/summary.json")} if runs_dir.is_dir() else set()
+    )
+    inputs.options.log(f"{label} ...")
+    start = time.perf_counter()
+    summary, folder = call()
+    seconds = time.perf_counter() - start
+    reused = (
+        inputs.options.reuse and folder.name in stored and load_cached_summary(folder) is not None
+    )
+    inputs.options.log(f"{label}: {'reused' if reused else 'ran'} in {seconds:.1f} s ({folder})")
+    return summary, folder, reused, seconds
+
+
+def run_props(inputs: Inputs) -> RunnerOutput:
+    """Table 1: weight, balance point and MOI of the bat (ASTM F2398)."""
+    from batball.lab.props_run import run_props_test
+
+    m = inputs.options.meshes
+    summary, folder, reused, seconds = timed_run(
+        inputs,
+        "props (bat)",
+        lambda: run_props_test(
+            inputs.bat,
+            runs_dir=inputs.options.runs_dir,
+            reuse=inputs.options.reuse,
+            circumferential=m.bat_circumferential,
+            axial_size=m.bat_axial_size,
+        ),
+    )
+    values = {
+        "props/weight": summary["weight_oz"],
+        "props/moi": summary["moi_pivot_oz_in2"],
+        "props/balance_point": summary["balance_point_in"],
+    }
+    figure = ReportFigure(
+        folder / "bat.png",
+        "bat_mesh.png",
+        f"The bat's shell mesh ({summary['n_shells']:,} shells), by part",
+        "bat",
+    )
+    return RunnerOutput((TestRun("bat", summary, folder, reused, seconds, values, (figure,)),))
+
+
+def run_modal(inputs: Inputs) -> RunnerOutput:
+    """Table 3: the bat's first two free-free bending and hoop frequencies."""
+    from batball.lab.modal_run import run_modal_test
+
+    m = inputs.options.meshes
+    summary, folder, reused, seconds = timed_run(
+        inputs,
+        "modal (bat)",
+        lambda: run_modal_test(
+            inputs.bat,
+            runs_dir=inputs.options.runs_dir,
+            reuse=inputs.options.reuse,
+            circumferential=m.bat_circumferential,
+            axial_size=m.bat_axial_size,
+        ),
+    )
+    values = {}
+    for kind in ("bending", "hoop"):
+        for k, frequency in enumerate(summary[f"{kind}_hz"][:2]):
+            values[f"modal/{kind}_{k + 1}"] = float(frequency)
+    figure = ReportFigure(
+        folder / "modes.png",
+        "bat_modes.png",
+        "The bat's first bending and hoop mode shapes (free-free)",
+        "modes",
+    )
+    return RunnerOutput((TestRun("bat", summary, folder, reused, seconds, values, (figure,)),))
+
+
+def material_values(ball: BallSpec) -> dict[str, float]:
+    """Table 4 keys of the MAT_006 constants a ball was run with, in psi and 1/s."""
+    units = {"bulk_modulus": PSI, "g0": PSI, "g_inf": PSI, "beta": 1.0}
+    return {
+        f"material/{ball.name}/{name}": ball.material.values[name] / scale
+        for name, scale in units.items()
+        if name in ball.material.values
+    }
+
+
+def run_ccor(inputs: Inputs) -> RunnerOutput:
+    """Tables 5-8: each ball at 95 and 110 mph against the rigid half-cylinder (ASTM F2845)."""
+    from batball.lab.impact import ImpactSetup
+    from batball.lab.impact_run import run_impact_test
+    from batball.report.reproduce_figures import plot_energy_histories, plot_force_time_cases
+
+    runs = []
+    for ball in inputs.balls:
+        for name, mph in BALL_CASES:
+            if name != ball.name:
+                continue
+            setup = ImpactSetup(
+                test="ccor", speed=mph * MPH, divisions=inputs.options.meshes.ball_divisions
+            )
+            summary, folder, reused, seconds = timed_run(
+                inputs,
+                f"ccor {ball.name} at {mph} mph",
+                lambda b=ball, s=setup: run_impact_test(  # type: ignore[misc]
+                    b, s, runs_dir=inputs.options.runs_dir, reuse=inputs.options.reuse
+                ),
+            )
+            case = f"{ball.name}/{mph}mph"
+            values = {
+                f"ccor/{case}": summary["ccor"],
+                f"ds/{case}": summary["ds_lbf_per_in"],
+                f"peak/{case}": summary["peak_force_lbf"],
+                f"contact/{case}": summary["contact_time_ms"],
+                **material_values(ball),
+            }
+            figure = ReportFigure(
+                folder / "force_time.png",
+                f"force_time_{ball.name}_{mph}mph.png",
+                f"Load-cell force, {ball.name} at {mph} mph",
+                "force-time",
+            )
+            runs.append(
+                TestRun(
+                    f"{ball.name} at {mph} mph", summary, folder, reused, seconds, values, (figure,)
+                )
+            )
+    inputs.figures_dir.mkdir(parents=True, exist_ok=True)
+    derived = (
+        *plot_force_time_cases(inputs.figures_dir, runs),
+        plot_energy_histories(inputs.figures_dir, runs),
+    )
+    return RunnerOutput(tuple(runs), derived)
+
+
+def run_compression(inputs: Inputs) -> RunnerOutput:
+    """Ball compression (ASTM F1888) of each ball; the seed publishes no values to compare."""
+    try:
+        from batball.lab.compression import CompressionSetup
+        from batball.lab.compression_run import run_compression_test
+    except ImportError as exc:
+        reason = f"the compression test is not in this installation ({exc})"
+        raise NotYetAvailableError(reason) from exc
+    runs = []
+    for ball in inputs.balls:
+        setup = CompressionSetup(divisions=inputs.options.meshes.ball_divisions)
+        summary, folder, reused, seconds = timed_run(
+            inputs,
+            f"compression {ball.name}",
+            lambda b=ball, s=setup: run_compression_test(  # type: ignore[misc]
+                b, s, runs_dir=inputs.options.runs_dir, reuse=inputs.options.reuse
+            ),
+        )
+        figure = ReportFigure(
+            folder / "force_displacement.png",
+            f"compression_{ball.name}.png",
+            f"Compression force against displacement, {ball.name}",
+            "compression",
+        )
+        runs.append(
+            TestRun(
+                ball.name,
+                summary,
+                folder,
+                reused,
+                seconds,
+                {f"compression/{ball.name}": summary["compression_lbf"]},
+                (figure,),
+            )
+        )
+    return RunnerOutput(tuple(runs))
+
+
+#: The study's virtual tests in page order, keyed by the names users type.
+REPRODUCTION_TESTS: dict[str, ReproductionTest] = {
+    test.name: test
+    for test in (
+        ReproductionTest(
+            "props", "bat weight, balance point, MOI (ASTM F2398)", ("table1",), run_props
+        ),
+        ReproductionTest(
+            "barrel",
+            "barrel compression with the insert (ASTM F2844)",
+            ("table2",),
+            None,
+            "the barrel compression test is not built yet",
+        ),
+        ReproductionTest(
+            "modal", "free-free bending and hoop modes of the bat", ("table3",), run_modal
+        ),
+        ReproductionTest(
+            "calibrate",
+            "ball material calibration to CCOR, DS, peak, contact time",
+            ("table4",),
+            None,
+            "ball calibration (batball calibrate) is not merged yet",
+        ),
+        ReproductionTest(
+            "ccor",
+            "CCOR, dynamic stiffness, peak force, contact time (ASTM F2845)",
+            ("table5", "table6", "table7", "table8"),
+            run_ccor,
+        ),
+        ReproductionTest(
+            "compression", "ball compression (ASTM F1888)", ("compression",), run_compression
+        ),
+        ReproductionTest(
+            "bbs",
+            "batted-ball speed at the 6-in location (ASTM F2219)",
+            ("table9",),
+            None,
+            "the batted-ball speed test is not built yet",
+        ),
+    )
+}
+
+
+def run_test(test: ReproductionTest, inputs: Inputs) -> TestOutcome:
+    """Run one registry test; a missing runner or module gives an outcome saying why."""
+    if test.run is None:
+        inputs.options.log(f"{test.name}: not yet available ({test.missing})")
+        return TestOutcome(test, missing=test.missing)
+    start = time.perf_counter()
+    try:
+        output = test.run(inputs)
+    except NotYetAvailableError as exc:
+        inputs.options.log(f"{test.name}: not yet available ({exc})")
+        return TestOutcome(test, missing=str(exc))
+    return TestOutcome(test, output.runs, output.figures, seconds=time.perf_counter() - start)
+
+
+@dataclass(frozen=True)
+class Reproduction:
+    """Everything the report shows."""
+
+    options: ReproduceOptions
+    inputs: Inputs
+    outcomes: tuple[TestOutcome, ...]
+    tables: tuple[ComparisonTable, ...]
+    values: dict[str, float]
+    environment: dict[str, Any]
+    seconds: float
+    figures: tuple[ReportFigure, ...] = field(default=())
+
+
+def reproduce(
+    options: ReproduceOptions, *, tests: dict[str, ReproductionTest] | None = None
+) -> Reproduction:
+    """Run every registry test (or ``tests``), then write the report into ``options.out_dir``."""
+    from batball.report.provenance import environment
+
+    start = time.perf_counter()
+    inputs = Inputs(
+        options, tuple(load_ball_spec(name) for name in options.balls), load_bat_spec(options.bat)
+    )
+    outcomes = tuple(run_test(t, inputs) for t in (tests or REPRODUCTION_TESTS).values())
+    values = {k: v for o in outcomes for r in o.runs for k, v in r.values.items()}
+    figures = tuple(
+        f for o in outcomes for f in (*(g for r in o.runs for g in r.figures), *o.figures)
+    )
+    result = Reproduction(
+        options,
+        inputs,
+        outcomes,
+        comparison_tables(load_seed_tables()),
+        values,
+        environment(),
+        time.perf_counter() - start,
+        figures,
+    )
+    write_report(result)
+    return result
+
+
+def copy_figures(result: Reproduction) -> None:
+    """Copy each figure into ``out_dir/figures`` (figures drawn there already stay)."""
+    target = result.options.out_dir / "figures"
+    target.mkdir(parents=True, exist_ok=True)
+    for figure in result.figures:
+        destination = target / figure.name
+        if figure.source.resolve() != destination.resolve():
+            shutil.copyfile(figure.source, destination)
+
+
+def write_report(result: Reproduction) -> None:
+    """index.html, summary.json, one CSV per table and the figures, in ``out_dir``."""
+    from batball.report.reproduce_html import render_report
+
+    out_dir = result.options.out_dir
+    out_dir.mkdir(parents=True, exist_ok=True)
+    copy_figures(result)
+    for table in result.tables:
+        write_table_csv(out_dir / f"{table.id}.csv", table, result.values)
+    write_json_atomic(out_dir / "summary.json", summary_document(result))
+    write_text_atomic(out_dir / "index.html", render_report(result))
+    result.options.log(
+        f"report: {(out_dir / 'index.html').as_posix()} ({result.seconds:.1f} s in all)"
+    )
+
+
+def write_table_csv(path: Path, table: ComparisonTable, values: dict[str, float]) -> None:
+    """One table as CSV: quantity, unit, experiment, seed LS-DYNA, batball, the % differences."""
+    import io
+
+    from batball.report.seed_comparison import table_records
+
+    records = table_records(table, values)
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=list(records[0]), lineterminator="\n")
+    writer.writeheader()
+    for record in records:
+        writer.writerow({k: ("" if v is None else v) for k, v in record.items()})
+    write_text_atomic(path, buffer.getvalue())
+
+
+def summary_document(result: Reproduction) -> dict[str, Any]:
+    """summary.json: options, environment, each test's runs (or why none), every table."""
+    from batball.report.seed_comparison import table_records
+
+    m = result.options.meshes
+    return {
+        "command": result.options.command,
+        "meshes": {
+            "ball_divisions": m.ball_divisions,
+            "bat_circumferential": m.bat_circumferential,
+            "bat_axial_size_in": m.bat_axial_size / IN,
+        },
+        "environment": result.environment,
+        "wall_seconds": result.seconds,
+        "tests": {
+            o.test.name: {
+                "title": o.test.title,
+                "tables": list(o.test.tables),
+                "available": o.available,
+                "missing": o.missing or None,
+                "seconds": o.seconds,
+                "runs": [
+                    {
+                        "label": r.label,
+                        "reused": r.reused,
+                        "seconds": r.seconds,
+                        "run_folder": r.folder.as_posix(),
+                        "summary": r.summary,
+                    }
+                    for r in o.runs
+                ],
+            }
+            for o in result.outcomes
+        },
+        "tables": {
+            t.id: {
+                "title": t.title,
+                "test": t.test,
+                "note": t.note,
+                "rows": table_records(t, result.values),
+            }
+            for t in result.tables
+        },
+    }
+
+
+def dump_summary(result: Reproduction) -> str:
+    """summary.json's text (for ``--json``)."""
+    return json.dumps(summary_document(result), indent=2, default=str)

@@ -1,0 +1,342 @@
+"""The reproduction report as one static HTML page: inline CSS, images as relative files.
+
+The only script is a few lines that mark ``<body data-images-loaded="all">`` once every image has
+loaded (what the browser test checks); the page reads the same without it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from html import escape
+from typing import TYPE_CHECKING, Any
+
+from batball.report.seed_comparison import (
+    ComparisonRow,
+    ComparisonTable,
+    percent_difference,
+    verdict,
+)
+from batball.specs import ball_spec_to_toml_dict, bat_spec_to_toml_dict
+
+if TYPE_CHECKING:
+    from batball.report.reproduce import Reproduction, TestOutcome
+
+NOT_YET = "not yet available"
+
+STYLE = """
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 70em; color: #222;
+       line-height: 1.4; padding: 0 1em; }
+h1 { margin-bottom: 0.2em; } h2 { border-bottom: 1px solid #ccc; margin-top: 2em; }
+table { border-collapse: collapse; margin: 0.6em 0 1.2em; font-size: 0.92em; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
+th { background: #f0f0f0; } td.label, th.label { text-align: left; }
+td.closer, span.closer { background: #c9ecc9; } td.tie, span.tie { background: #f3f0c4; }
+td.farther, span.farther { background: #f6cfcf; }
+td.missing { color: #888; font-style: italic; }
+.legend span { padding: 0.1em 0.6em; margin-right: 0.6em; border: 1px solid #ccc; }
+.note { color: #555; font-size: 0.9em; max-width: 60em; }
+figure { display: inline-block; margin: 0.6em 1em 1em 0; vertical-align: top; width: 32em; }
+figure img { max-width: 100%; border: 1px solid #ddd; }
+figcaption { font-size: 0.85em; color: #444; }
+figure.wide { width: 66em; }
+code { background: #f4f4f4; padding: 0 0.2em; }
+"""
+
+IMAGE_CHECK = """<script>
+window.addEventListener("load", function () {
+  var images = Array.prototype.slice.call(document.images);
+  var loaded = images.filter(function (i) { return i.complete && i.naturalWidth > 0; });
+  document.body.setAttribute("data-image-count", String(images.length));
+  document.body.setAttribute("data-images-loaded",
+                             loaded.length === images.length ? "all" : "missing");
+});
+</script>"""
+
+
+def number(value: float | None, digits: int, unit: str = "") -> str:
+    """``value`` with ``digits`` decimals and thousands separators; "—" for None."""
+    if value is None:
+        return "—"
+    return f"{value:,.{digits}f}" + (f" {unit}" if unit else "")
+
+
+def percent(value: float | None) -> str:
+    """A signed percentage with one decimal; "—" for None."""
+    return "—" if value is None else f"{value:+.1f} %"
+
+
+def display_unit(unit: str) -> str:
+    """The unit as a reader writes it (``oz*in**2`` -> ``oz·in²``)."""
+    return unit.replace("**2", "²").replace("*", "·")
+
+
+def batball_cell(row: ComparisonRow, value: float | None, missing: str) -> str:
+    """batball's cell: its value coloured by the verdict, or why there is none."""
+    if value is None:
+        reason = escape(missing or "no run of this batball test measured it")
+        return f'<td class="missing" title="{reason}">{NOT_YET}</td>'
+    judged = verdict(row, value)
+    css = f' class="{judged}"' if judged else ""
+    title = f' title="batball is {judged} to the experiment than LS-DYNA"' if judged else ""
+    return f"<td{css}{title}>{number(value, row.digits)}</td>"
+
+
+def table_html(table: ComparisonTable, values: Mapping[str, float], missing: str) -> str:
+    """One seed table: experiment, the seed's LS-DYNA, batball and the two % differences."""
+    head = (
+        "<tr><th class='label'>quantity</th><th>unit</th><th>experiment</th>"
+        "<th>seed LS-DYNA</th><th>batball</th><th>batball vs experiment</th>"
+        "<th>LS-DYNA vs experiment</th></tr>"
+    )
+    body = []
+    for row in table.rows:
+        ours = values.get(row.key)
+        body.append(
+            f"<tr><td class='label'>{escape(row.label)}</td>"
+            f"<td class='label'>{escape(display_unit(row.unit))}</td>"
+            f"<td>{number(row.experiment, row.digits)}</td>"
+            f"<td>{number(row.seed_fe, row.digits)}</td>"
+            f"{batball_cell(row, ours, missing)}"
+            f"<td>{percent(percent_difference(ours, row.experiment))}</td>"
+            f"<td>{percent(percent_difference(row.seed_fe, row.experiment))}</td></tr>"
+        )
+    note = f"<p class='note'>{escape(table.note)}</p>" if table.note else ""
+    return (
+        f"<h3 id='{table.id}'>{escape(table.title)}</h3>{note}"
+        f"<table class='comparison' data-table='{table.id}'>{head}{''.join(body)}</table>"
+    )
+
+
+def verdict_counts(result: Reproduction) -> dict[str, int]:
+    """How many batball cells are closer to, as close as, or farther from the experiment."""
+    counts = {"closer": 0, "tie": 0, "farther": 0}
+    for table in result.tables:
+        for row in table.rows:
+            judged = verdict(row, result.values.get(row.key))
+            if judged:
+                counts[judged] += 1
+    return counts
+
+
+def tables_section(result: Reproduction) -> str:
+    """The seed's tables, each with the reason batball's column is empty where it is."""
+    outcomes = {o.test.name: o for o in result.outcomes}
+    counts = verdict_counts(result)
+    legend = (
+        "<p class='legend'>batball cell: <span class='closer'>closer to the experiment than "
+        "the seed's LS-DYNA</span><span class='tie'>as close (at the shown precision)</span>"
+        "<span class='farther'>farther</span>. Differences are signed: "
+        "100 (value − experiment) / experiment.</p>"
+    )
+    summary = (
+        f"<p>batball closer than LS-DYNA in {counts['closer']} cells, as close in "
+        f"{counts['tie']}, farther in {counts['farther']}.</p>"
+    )
+    parts = [f"<h2 id='tables'>The seed's tables, rebuilt</h2>{legend}{summary}"]
+    for table in result.tables:
+        outcome = outcomes.get(table.test)
+        missing = outcome.missing if outcome is not None else f"no test named {table.test}"
+        parts.append(table_html(table, result.values, missing))
+    return "".join(parts)
+
+
+def tests_section(result: Reproduction) -> str:
+    """Which tests ran (or were reused from the store) and which are not yet available."""
+    rows = []
+    for o in result.outcomes:
+        if o.available:
+            reused = sum(r.reused for r in o.runs)
+            status = f"{len(o.runs)} run(s), {reused} reused from the store"
+        else:
+            status = f"{NOT_YET}: {escape(o.missing)}"
+        rows.append(
+            f"<tr><td class='label'><code>{o.test.name}</code></td>"
+            f"<td class='label'>{escape(o.test.title)}</td>"
+            f"<td class='label'>{', '.join(o.test.tables)}</td>"
+            f"<td class='label'>{status}</td><td>{o.seconds:.1f}</td></tr>"
+        )
+    head = (
+        "<tr><th class='label'>test</th><th class='label'>what</th>"
+        "<th class='label'>tables</th><th class='label'>status</th><th>wall (s)</th></tr>"
+    )
+    return f"<h2 id='tests'>Tests</h2><table>{head}{''.join(rows)}</table>"
+
+
+FIGURE_SECTIONS = (
+    ("force-time", "Force against time (seed Figure 15)"),
+    ("energy", "Energy histories"),
+    ("bat", "The bat model"),
+    ("modes", "Bat mode shapes"),
+    ("compression", "Ball compression"),
+    ("prestress", "Barrel pre-stress fringe (seed Figure 10)"),
+)
+
+
+#: Sections whose figures hold several panels: shown at full page width.
+WIDE_SECTIONS = ("energy", "bat", "modes")
+
+
+def figures_section(result: Reproduction) -> str:
+    """Every figure, grouped; a group with no figure says so."""
+    parts = ["<h2 id='figures'>Figures</h2>"]
+    for section, heading in FIGURE_SECTIONS:
+        # figures drawn from several runs (e.g. both speeds of a ball) first
+        figures = sorted(
+            (f for f in result.figures if f.section == section),
+            key=lambda f: not f.source.is_relative_to(result.options.out_dir),
+        )
+        parts.append(f"<h3>{escape(heading)}</h3>")
+        if not figures:
+            parts.append(f"<p class='note missing'>{NOT_YET}</p>")
+        css = " class='wide'" if section in WIDE_SECTIONS else ""
+        for f in figures:
+            parts.append(
+                f"<figure{css}><img src='figures/{escape(f.name)}' alt='{escape(f.caption)}'>"
+                f"<figcaption>{escape(f.caption)}</figcaption></figure>"
+            )
+    return "".join(parts)
+
+
+def definition_list(items: Iterable[tuple[str, Any]]) -> str:
+    """A two-column table of names and values."""
+    rows = "".join(
+        f"<tr><td class='label'>{escape(str(k))}</td><td class='label'>{escape(str(v))}</td></tr>"
+        for k, v in items
+    )
+    return f"<table>{rows}</table>"
+
+
+def ball_inputs(result: Reproduction) -> str:
+    """Each ball as run: size, mass and material constants with units."""
+    parts = []
+    for ball in result.inputs.balls:
+        d = ball_spec_to_toml_dict(ball)
+        items = [
+            ("circumference", d["circumference"]),
+            ("mass", d["mass"]),
+            *((f"material {k}", v) for k, v in d["material"].items()),
+        ]
+        parts.append(
+            f"<h3>Ball {escape(ball.name)}</h3><p class='note'>"
+            f"{escape(ball.description)}</p>{definition_list(items)}"
+        )
+    return "".join(parts)
+
+
+def ply_text(plies: list[dict[str, Any]]) -> str:
+    """A layup as one line: material thickness ±angle, inner to outer."""
+    return "; ".join(
+        f"{p['material']} {p['thickness']} {'±' if p.get('braided') else ''}{p['angle']}"
+        for p in plies
+    )
+
+
+def bat_inputs(result: Reproduction) -> str:
+    """The bat as run: length, parts with layups, insert, lamina materials."""
+    d = bat_spec_to_toml_dict(result.inputs.bat)
+    rows = "".join(
+        f"<tr><td class='label'>{escape(p['name'])}</td><td>{p['start']}</td>"
+        f"<td>{p['end']}</td><td>{p['lumped_mass']}</td>"
+        f"<td class='label'>{escape(ply_text(p['layup']))}</td></tr>"
+        for p in d["parts"]
+    )
+    insert = d.get("insert")
+    if insert:
+        rows += (
+            f"<tr><td class='label'>insert (interference {insert['interference']})</td>"
+            f"<td>{insert['start']}</td><td>{insert['end']}</td><td>—</td>"
+            f"<td class='label'>{escape(ply_text(insert['layup']))}</td></tr>"
+        )
+    head = (
+        "<tr><th class='label'>part</th><th>from knob</th><th>to</th><th>lumped mass</th>"
+        "<th class='label'>plies, inner to outer</th></tr>"
+    )
+    materials = definition_list(
+        (name, ", ".join(f"{k} {v}" for k, v in m.items())) for name, m in d["materials"].items()
+    )
+    return (
+        f"<h3>Bat {escape(d['name'])} ({d['length']})</h3><p class='note'>"
+        f"{escape(d['description'])}</p><table>{head}{rows}</table>{materials}"
+    )
+
+
+def runs_table(outcomes: Iterable[TestOutcome]) -> str:
+    """Every run: its folder, mesh size, the wall time when computed and in this invocation."""
+    rows = []
+    for o in outcomes:
+        for r in o.runs:
+            size = r.summary.get("n_cells") or r.summary.get("n_shells") or "—"
+            rows.append(
+                f"<tr><td class='label'>{o.test.name}: {escape(r.label)}</td>"
+                f"<td>{size:,}</td><td>{float(r.summary['wall_seconds']):.1f}</td>"
+                f"<td>{r.seconds:.1f}{' (reused)' if r.reused else ''}</td>"
+                f"<td class='label'><code>{escape(r.folder.as_posix())}</code></td></tr>"
+            )
+    head = (
+        "<tr><th class='label'>run</th><th>elements</th><th>test's wall time, stored (s)</th>"
+        "<th>wall time here (s)</th><th class='label'>run folder</th></tr>"
+    )
+    return f"<table>{head}{''.join(rows)}</table>"
+
+
+def load_text(load: list[float] | None) -> str:
+    """The load average as ``"3.1, 2.9, 2.5"``, or ``"unknown"``."""
+    return "unknown" if not load else ", ".join(f"{x:.2f}" for x in load)
+
+
+def inputs_section(result: Reproduction) -> str:
+    """Specs, meshes, runs, versions and machine: exactly what was run."""
+    m, env = result.options.meshes, result.environment
+    meshes = definition_list(
+        [
+            ("ball divisions", f"{m.ball_divisions} (12 = the seed's 12,096 hexes)"),
+            ("bat shells around", m.bat_circumferential),
+            ("bat shell length", f"{m.bat_axial_size / 0.0254:g} in"),
+        ]
+    )
+    machine = definition_list(
+        [
+            ("command", result.options.command),
+            ("date", env["date_utc"]),
+            ("total wall time", f"{result.seconds:.1f} s"),
+            *((f"{k} version", v) for k, v in env["versions"].items()),
+            ("python", env["python"]),
+            ("platform", env["platform"]),
+            ("cpu", env["cpu"]),
+            ("cpu count", env["cpu_count"]),
+            ("NUMBA_NUM_THREADS", env["numba_num_threads"]),
+            ("load average (1, 5, 15 min)", load_text(env["load_average_1_5_15_min"])),
+        ]
+    )
+    return (
+        f"<h2 id='inputs'>Inputs: what was run</h2><h3>Meshes</h3>{meshes}"
+        f"{ball_inputs(result)}{bat_inputs(result)}<h3>Runs</h3>{runs_table(result.outcomes)}"
+        f"<h3>Software and machine</h3>{machine}"
+    )
+
+
+def render_report(result: Reproduction) -> str:
+    """The whole page."""
+    quick = "coarse (--quick)" if result.options.meshes.ball_divisions < 12 else "full-size"
+    header = (
+        f"<h1>batball: the seed study, reproduced</h1><p class='note'>Every table of the "
+        f"seed study (a composite softball bat and two ball types, HyperMesh + LS-DYNA) "
+        f"beside batball's virtual tests on the embedded balls and bat; {quick} meshes; "
+        f"{result.seconds:.1f} s; {escape(result.environment['date_utc'])}. Tests not built "
+        f"yet say “{NOT_YET}”: no batball number here comes from anywhere but a run.</p>"
+        "<p><a href='#tests'>tests</a> · <a href='#tables'>tables</a> · "
+        "<a href='#figures'>figures</a> · <a href='#inputs'>inputs</a> · "
+        "<a href='summary.json'>summary.json</a></p>"
+    )
+    body = (
+        header
+        + tests_section(result)
+        + tables_section(result)
+        + figures_section(result)
+        + inputs_section(result)
+    )
+    return (
+        f"<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
+        f"<title>batball reproduce</title><style>{STYLE}</style></head>"
+        f"<body>{body}{IMAGE_CHECK}</body></html>\n"
+    )
