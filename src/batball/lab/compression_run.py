@@ -53,6 +53,7 @@ def summarise_compression(result: CompressionResult, wall_seconds: float) -> dic
     return {
         "test": "compression",
         "compression_lbf": result.compression / LBF,
+        "compression_fit_lbf": result.compression_fit / LBF,
         "displacement_in": setup.displacement / IN,
         "rate_in_per_min": setup.rate / IN * 60.0,
         "loading_time_s": setup.displacement / setup.rate,
