@@ -186,7 +186,7 @@ def initial_state(model: Model) -> State:
         points=model.mesh.points.copy(),
         velocities=model.initial_velocity.copy(),
         s_inf=np.zeros((n_cells, 6)),
-        h=np.zeros((n_cells, 6)),
+        h=np.zeros((n_cells, 3 * model.material_constants.shape[1] - 6)),  # 6 per Prony term
         pressure=np.zeros(n_cells),
         hg_state=np.zeros((n_cells, 4, 3)),
         energies=np.zeros(4),
