@@ -75,5 +75,6 @@ def run_request(request: RunRequest) -> dict[str, Any]:
 def limit_threads(threads: int) -> None:
     """Worker initialiser: use ``threads`` Numba threads (the machine is shared by the pool)."""
     import numba
+    from numba.np.ufunc.parallel import get_thread_count
 
-    numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
+    numba.set_num_threads(max(1, min(threads, get_thread_count())))
