@@ -200,24 +200,37 @@ def _load_factors(w, e, first):
 _NO_HOURGLASS = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
 
 
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _add6(a: Voigt, b: Voigt) -> Voigt:
+    """a + b for Voigt 6-tuples."""
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5])
+
+
 def _make_prony_terms(n_extra: int):
-    """Advance the further Prony terms 2..n_extra+1 of slot e in place; their summed h and work."""
+    """Advance the further Prony terms 2..n_extra+1 (n_extra = 1 or 2) of slot e in place;
+    returns h_sum plus their new h, and their work. Straight-line, every value computed before
+    the first store, so that the element loop stays SIMD (see the note above)."""
     r_h = N_ROWS  # first row of term 2's h
     r_factors = N_ROWS + 6 * n_extra  # first row of term 2's (decay, scale)
 
     @nb.njit(inline="always", fastmath=FASTMATH)
-    def advance_terms(w, e, q, de, h_sum):
-        work = 0.0
-        for i in range(n_extra):
-            decay, scale = w[at(r_factors + 2 * i, e)], w[at(r_factors + 2 * i + 1, e)]
-            h_i, work_i = advance_prony_term(load6(w, r_h + 6 * i, e), q, de, decay, scale)
-            store6(w, r_h + 6 * i, e, h_i)
-            h_sum = (h_sum[0] + h_i[0], h_sum[1] + h_i[1], h_sum[2] + h_i[2],
-                     h_sum[3] + h_i[3], h_sum[4] + h_i[4], h_sum[5] + h_i[5])  # fmt: skip
-            work += work_i
-        return h_sum, work
+    def advance_one(w, e, q, de, h_sum):
+        f = (w[at(r_factors, e)], w[at(r_factors + 1, e)])
+        h2, work2 = advance_prony_term(load6(w, r_h, e), q, de, f[0], f[1])
+        store6(w, r_h, e, h2)
+        return _add6(h_sum, h2), work2
 
-    return advance_terms
+    @nb.njit(inline="always", fastmath=FASTMATH)
+    def advance_two(w, e, q, de, h_sum):
+        f2 = (w[at(r_factors, e)], w[at(r_factors + 1, e)])
+        f3 = (w[at(r_factors + 2, e)], w[at(r_factors + 3, e)])
+        h2, work2 = advance_prony_term(load6(w, r_h, e), q, de, f2[0], f2[1])
+        h3, work3 = advance_prony_term(load6(w, r_h + 6, e), q, de, f3[0], f3[1])
+        store6(w, r_h, e, h2)
+        store6(w, r_h + 6, e, h3)
+        return _add6(_add6(h_sum, h2), h3), work2 + work3
+
+    return advance_two if n_extra == 2 else advance_one
 
 
 def _make_element_block(fb: bool, stiff: bool, n_terms: int = 1):
