@@ -98,3 +98,22 @@ def test_relaxation_modulus_starts_at_g0_and_ends_at_g_inf() -> None:
     g = relaxation_modulus(PRONY3, np.array([0.0, 1.0]))
     assert g[0] == pytest.approx(PRONY3["g_inf"] + PRONY3["g1"] + PRONY3["g2"] + PRONY3["g3"])
     assert g[1] == pytest.approx(PRONY3["g_inf"])
+
+
+def test_prony3_material_spec_round_trips_through_toml_and_checks_bounds() -> None:
+    from batball.errors import SpecError
+    from batball.specs.ball import (
+        MaterialSpec,
+        material_spec_from_dict,
+        material_spec_to_toml_dict,
+    )
+
+    spec = MaterialSpec(law="prony3", values=PRONY3)
+    table = material_spec_to_toml_dict(spec)
+    assert table["g2"] == "5000 psi" and table["beta3"] == "600000 1/s"
+    again = material_spec_from_dict(table)
+    for name, value in PRONY3.items():
+        assert again.values[name] == pytest.approx(value, rel=1e-11)
+    with pytest.raises(SpecError) as info:
+        MaterialSpec(law="prony3", values=dict(PRONY3, g2=-1.0))
+    assert info.value.field == "material.g2"
