@@ -68,6 +68,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_fit_bat_parser(sub)
     add_modal_parser(sub)
     add_compression_parser(sub)
+    add_calibrate_parser(sub)
     return parser
 
 
@@ -141,6 +142,22 @@ def describe_compression(s: dict[str, Any]) -> str:
             f"  results in {s['run_folder']}",
         ]
     )
+
+
+# --- batball calibrate (issue 4); the command lives in batball.calibrate.command -------------
+
+
+def add_calibrate_parser(sub: Any) -> None:
+    """``batball calibrate``: fit a ball's material model to measured impact data."""
+    from batball.calibrate.command import add_calibrate_arguments, run_calibrate_command
+
+    help_text = "fit a ball's material model to measured CCOR, DS, peak force and contact time"
+    p = sub.add_parser("calibrate", help=help_text, description=help_text)
+    add_calibrate_arguments(p)
+    p.set_defaults(handler=run_calibrate_command)
+
+
+# --- end of batball calibrate ------------------------------------------------------------------
 
 
 def add_bat_mesh_options(p: Any) -> None:

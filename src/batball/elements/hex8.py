@@ -36,8 +36,14 @@ from batball.elements.hex8_block import (
     BLOCK,
     N_ROWS,
     element_block_fb_stiffness,
+    element_block_fb_stiffness_2,
+    element_block_fb_stiffness_3,
     element_block_fb_viscous,
+    element_block_fb_viscous_2,
+    element_block_fb_viscous_3,
     element_block_viscous,
+    element_block_viscous_2,
+    element_block_viscous_3,
     gather_block,
     gather_material,
     material_factors,
@@ -64,7 +70,8 @@ def _advance_chunk(
 ):
     """Cells first..end-1, block by block; returns their (internal, hourglass, bulk) work [J]."""
     dt, hg_coefficient, q1, q2 = controls
-    w = np.empty(N_ROWS * BLOCK)
+    n_terms = state[1].shape[1] // 6  # Prony terms: h holds 6 columns per term
+    w = np.empty((N_ROWS + 8 * (n_terms - 1)) * BLOCK)
     internal = 0.0
     hourglass = 0.0
     bulk = 0.0
@@ -120,12 +127,62 @@ def _forces_fb_stiffness(mesh, material, state, outputs, controls):
     _advance_all(element_block_fb_stiffness, True, mesh, material, state, outputs, controls)
 
 
+# The same for materials of 2 and 3 Prony terms (batball.materials.prony).
+
+
+@nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
+def _forces_viscous_2(mesh, material, state, outputs, controls):
+    """IHQ 1, two Prony terms."""
+    _advance_all(element_block_viscous_2, False, mesh, material, state, outputs, controls)
+
+
+@nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
+def _forces_fb_viscous_2(mesh, material, state, outputs, controls):
+    """IHQ 2 and 3, two Prony terms."""
+    _advance_all(element_block_fb_viscous_2, False, mesh, material, state, outputs, controls)
+
+
+@nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
+def _forces_fb_stiffness_2(mesh, material, state, outputs, controls):
+    """IHQ 4 and 5, two Prony terms."""
+    _advance_all(element_block_fb_stiffness_2, True, mesh, material, state, outputs, controls)
+
+
+@nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
+def _forces_viscous_3(mesh, material, state, outputs, controls):
+    """IHQ 1, three Prony terms."""
+    _advance_all(element_block_viscous_3, False, mesh, material, state, outputs, controls)
+
+
+@nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
+def _forces_fb_viscous_3(mesh, material, state, outputs, controls):
+    """IHQ 2 and 3, three Prony terms."""
+    _advance_all(element_block_fb_viscous_3, False, mesh, material, state, outputs, controls)
+
+
+@nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
+def _forces_fb_stiffness_3(mesh, material, state, outputs, controls):
+    """IHQ 4 and 5, three Prony terms."""
+    _advance_all(element_block_fb_stiffness_3, True, mesh, material, state, outputs, controls)
+
+
+#: Kernels keyed by (IHQ, Prony terms).
 _KERNELS = {
-    1: _forces_viscous,
-    2: _forces_fb_viscous,
-    3: _forces_fb_viscous,
-    4: _forces_fb_stiffness,
-    5: _forces_fb_stiffness,
+    (1, 1): _forces_viscous,
+    (2, 1): _forces_fb_viscous,
+    (3, 1): _forces_fb_viscous,
+    (4, 1): _forces_fb_stiffness,
+    (5, 1): _forces_fb_stiffness,
+    (1, 2): _forces_viscous_2,
+    (2, 2): _forces_fb_viscous_2,
+    (3, 2): _forces_fb_viscous_2,
+    (4, 2): _forces_fb_stiffness_2,
+    (5, 2): _forces_fb_stiffness_2,
+    (1, 3): _forces_viscous_3,
+    (2, 3): _forces_fb_viscous_3,
+    (3, 3): _forces_fb_viscous_3,
+    (4, 3): _forces_fb_stiffness_3,
+    (5, 3): _forces_fb_stiffness_3,
 }
 
 
@@ -156,10 +213,13 @@ def compute_hex8_forces(
     Args:
         points: (n_points, 3) coordinates x^n [m]; velocities: (n_points, 3) v^(n-1/2) [m/s].
         cells: (n_cells, 8) node ids; dt: the step dt^(n-1/2) [s] that led to x^n.
-        cell_material: (n_cells,) row of ``material_constants`` (n_materials, 4: K, G0, G_inf
-            [Pa], beta [1/s]) and ``densities`` (n_materials,) [kg/m^3] for each cell.
+        cell_material: (n_cells,) row of ``material_constants`` (n_materials, 2 N + 2: K, G0,
+            G_inf [Pa], beta_1 [1/s], then (G_i [Pa], beta_i [1/s]) for Prony terms i = 2..N;
+            N = 1 is MAT_006's K, G0, G_inf, beta) and ``densities`` (n_materials,) [kg/m^3].
         volume0: (n_cells,) initial volumes [m^3].
-        s_inf, h: (n_cells, 6) MAT_006 deviatoric stresses [Pa]; pressure: (n_cells,) [Pa];
+        s_inf: (n_cells, 6) long-time deviatoric stress [Pa]; h: (n_cells, 6 N) relaxing
+            stresses of the N Prony terms (term-major; N = 1 for MAT_006) [Pa];
+            pressure: (n_cells,) [Pa];
             hg_state: (n_cells, 4, 3) stiffness-form hourglass forces [N] (all updated in place).
         hg_type, hg_coefficient: LS-DYNA IHQ (a key of ``HOURGLASS_TYPES``) and QH/QM.
         q1, q2: bulk viscosity (0, 0 = off).
@@ -170,7 +230,13 @@ def compute_hex8_forces(
         energy_increments: (n_chunks, 3) out: internal, hourglass, bulk-viscosity work [J] of
             each of n_chunks equal slices of the cells (the slices run in parallel).
     """
-    _KERNELS[hg_type](
+    n_terms = h.shape[1] // 6
+    if h.shape[1] != 6 * n_terms or material_constants.shape[1] != 2 * n_terms + 2:
+        raise ValueError(
+            f"h has {h.shape[1]} columns and material_constants {material_constants.shape[1]}; "
+            "expected 6 N and 2 N + 2 for N Prony terms (N = 1 for MAT_006)"
+        )
+    _KERNELS[hg_type, n_terms](
         (points, velocities, cells),
         (cell_material, material_constants, densities, volume0),
         (s_inf, h, pressure, hg_state),

@@ -14,7 +14,12 @@ import numba as nb
 import numpy as np
 
 from batball.elements.hex8_geometry import Vector, modal_sums
-from batball.elements.hex8_kinematics import Modes, Voigt, element_kinematics
+from batball.elements.hex8_kinematics import (
+    Modes,
+    Voigt,
+    advance_prony_term,
+    element_kinematics,
+)
 from batball.elements.hex8_response import element_response
 from batball.materials.viscoelastic import viscoelastic_step_factors
 from batball.numerics import FASTMATH
@@ -34,19 +39,34 @@ R_MAT = 74  # 6 material factors, the columns of material_factors()
 R_VOL = 80  # volume [m^3]
 R_DT = 81  # stable step [s]
 N_ROWS = 82
+# A material with N Prony terms (N > 1) adds rows after N_ROWS: 6 (N - 1) rows of the further
+# terms' h (term-major), then 2 (N - 1) rows of their (decay, scale) factors.
 
-# Columns of material_factors(): density, K, K + 4/3 G0, 2 G_inf, exp(-beta dt), the relaxing
-# modulus 2 (G0 - G_inf) (1 - exp(-beta dt)) / (beta dt).
+# Columns of material_factors(): density, K, K + 4/3 G0, 2 G_inf, exp(-beta_1 dt), the relaxing
+# modulus of term 1, 2 G_1 (1 - exp(-beta_1 dt)) / (beta_1 dt) with
+# G_1 = G0 - G_inf - sum_(i>1) G_i; then, for Prony terms i = 2..N, exp(-beta_i dt) and
+# 2 G_i (1 - exp(-beta_i dt)) / (beta_i dt).
 M_RHO, M_K, M_MODULUS, M_TWO_G_INF, M_DECAY, M_SCALE = 0, 1, 2, 3, 4, 5
+N_FACTORS = 6
 
 
 @nb.njit(fastmath=FASTMATH)
 def material_factors(constants: np.ndarray, densities: np.ndarray, dt: float) -> np.ndarray:
-    """Per-material factors of one step, (n_materials, 6), columns ``M_*`` (SI units)."""
-    table = np.empty((constants.shape[0], 6))
+    """Per-material factors of one step, (n_materials, 6 + 2 (N - 1)), columns ``M_*`` then the
+    further terms' (decay, scale) (SI units); ``constants`` (n_materials, 2 N + 2) as in
+    :mod:`batball.materials.prony` (N = 1: MAT_006's K, G0, G_inf, beta)."""
+    n_extra = (constants.shape[1] - 4) // 2
+    table = np.empty((constants.shape[0], N_FACTORS + 2 * n_extra))
     for m in range(constants.shape[0]):
         k, g0, g_inf, beta = constants[m, 0], constants[m, 1], constants[m, 2], constants[m, 3]
-        decay, scale = viscoelastic_step_factors(g0, g_inf, beta, dt)
+        g_first = g0
+        for i in range(n_extra):
+            g_i, beta_i = constants[m, 4 + 2 * i], constants[m, 5 + 2 * i]
+            g_first -= g_i
+            decay_i, scale_i = viscoelastic_step_factors(g_i, 0.0, beta_i, dt)
+            table[m, N_FACTORS + 2 * i] = decay_i
+            table[m, N_FACTORS + 2 * i + 1] = scale_i
+        decay, scale = viscoelastic_step_factors(g_first, g_inf, beta, dt)
         table[m, M_RHO] = densities[m]
         table[m, M_K] = k
         table[m, M_MODULUS] = k + 4.0 / 3.0 * g0
@@ -180,8 +200,44 @@ def _load_factors(w, e, first):
 _NO_HOURGLASS = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
 
 
-def _make_element_block(fb: bool, stiff: bool):
-    """The element loop compiled for one hourglass form (the flags are compile-time constants)."""
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _add6(a: Voigt, b: Voigt) -> Voigt:
+    """a + b for Voigt 6-tuples."""
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5])
+
+
+def _make_prony_terms(n_extra: int):
+    """Advance the further Prony terms 2..n_extra+1 (n_extra = 1 or 2) of slot e in place;
+    returns h_sum plus their new h, and their work. Straight-line, every value computed before
+    the first store, so that the element loop stays SIMD (see the note above)."""
+    r_h = N_ROWS  # first row of term 2's h
+    r_factors = N_ROWS + 6 * n_extra  # first row of term 2's (decay, scale)
+
+    @nb.njit(inline="always", fastmath=FASTMATH)
+    def advance_one(w, e, q, de, h_sum):
+        f = (w[at(r_factors, e)], w[at(r_factors + 1, e)])
+        h2, work2 = advance_prony_term(load6(w, r_h, e), q, de, f[0], f[1])
+        store6(w, r_h, e, h2)
+        return _add6(h_sum, h2), work2
+
+    @nb.njit(inline="always", fastmath=FASTMATH)
+    def advance_two(w, e, q, de, h_sum):
+        f2 = (w[at(r_factors, e)], w[at(r_factors + 1, e)])
+        f3 = (w[at(r_factors + 2, e)], w[at(r_factors + 3, e)])
+        h2, work2 = advance_prony_term(load6(w, r_h, e), q, de, f2[0], f2[1])
+        h3, work3 = advance_prony_term(load6(w, r_h + 6, e), q, de, f3[0], f3[1])
+        store6(w, r_h, e, h2)
+        store6(w, r_h + 6, e, h3)
+        return _add6(_add6(h_sum, h2), h3), work2 + work3
+
+    return advance_two if n_extra == 2 else advance_one
+
+
+def _make_element_block(fb: bool, stiff: bool, n_terms: int = 1):
+    """The element loop compiled for one hourglass form and number of Prony terms (the flags are
+    compile-time constants; ``n_terms`` = 1 is MAT_006's loop, unchanged)."""
+    prony = n_terms > 1
+    advance_terms = _make_prony_terms(n_terms - 1)
 
     @nb.njit(fastmath=FASTMATH, error_model="numpy")
     def element_block(w, n, dt, q1, q2, hg_coefficient):
@@ -194,11 +250,15 @@ def _make_element_block(fb: bool, stiff: bool):
             v = load_modal_sums(w, R_V, e)
             hg_old = _load_hourglass(w, e) if stiff else _NO_HOURGLASS
             p_old, v0 = w[at(R_P, e)], w[at(R_V0, e)]
-            s_inf, h, trd, dev_work, vmid, g, vol = element_kinematics(
+            s_inf, h, trd, dev_work, vmid, g, vol, q, de = element_kinematics(
                 x, v, load6(w, R_S, e), load6(w, R_H, e), _load_factors(w, e, M_TWO_G_INF), dt
             )
+            h_all = h
+            if prony:
+                h_all, prony_work = advance_terms(w, e, q, de, h)
+                dev_work += prony_work
             p, hg, forces, step, work = element_response(
-                x, v, g, s_inf, h, hg_old, (vol, v0, trd, vmid, dev_work, p_old),
+                x, v, g, s_inf, h_all, hg_old, (vol, v0, trd, vmid, dev_work, p_old),
                 _load_factors(w, e, M_RHO), (dt, q1, q2, hg_coefficient), fb, stiff,
             )  # fmt: skip
             _store_element(w, e, s_inf, h, p, forces, vol, step)
@@ -216,6 +276,14 @@ def _make_element_block(fb: bool, stiff: bool):
 element_block_viscous = _make_element_block(False, False)
 element_block_fb_viscous = _make_element_block(True, False)
 element_block_fb_stiffness = _make_element_block(True, True)
+
+#: The same for materials of 2 and 3 Prony terms (batball.materials.prony).
+element_block_viscous_2 = _make_element_block(False, False, 2)
+element_block_fb_viscous_2 = _make_element_block(True, False, 2)
+element_block_fb_stiffness_2 = _make_element_block(True, True, 2)
+element_block_viscous_3 = _make_element_block(False, False, 3)
+element_block_fb_viscous_3 = _make_element_block(True, False, 3)
+element_block_fb_stiffness_3 = _make_element_block(True, True, 3)
 
 
 @nb.njit
@@ -248,6 +316,8 @@ def gather_block(
         for k in range(6):
             w[at(R_S + k, e)] = s_inf[e, k]
             w[at(R_H + k, e)] = h[e, k]
+        for k in range(6, h.shape[1]):  # further Prony terms
+            w[at(N_ROWS + k - 6, e)] = h[e, k]
         w[at(R_P, e)] = pressure[e]
         w[at(R_V0, e)] = volume0[e]
         if stiff:
@@ -265,13 +335,16 @@ def gather_material(
     shared = True
     for e in range(1, n):
         shared = shared and materials[e] == materials[0]
-    for k in range(6):
+    n_extra = (factors.shape[1] - N_FACTORS) // 2
+    for k in range(factors.shape[1]):
+        # the further terms' factors sit after their 6 (N - 1) rows of h
+        row = R_MAT + k if k < N_FACTORS else N_ROWS + 6 * n_extra + k - N_FACTORS
         if shared:
             for e in range(n):
-                w[at(R_MAT + k, e)] = factors[materials[0], k]
+                w[at(row, e)] = factors[materials[0], k]
         else:
             for e in range(n):
-                w[at(R_MAT + k, e)] = factors[materials[e], k]
+                w[at(row, e)] = factors[materials[e], k]
 
 
 @nb.njit
@@ -299,6 +372,8 @@ def scatter_block(
         for k in range(6):
             s_inf[e, k] = w[at(R_S + k, e)]
             h[e, k] = w[at(R_H + k, e)]
+        for k in range(6, h.shape[1]):  # further Prony terms
+            h[e, k] = w[at(N_ROWS + k - 6, e)]
         pressure[e] = w[at(R_P, e)]
         volume[e] = w[at(R_VOL, e)]
         step[e] = w[at(R_DT, e)]

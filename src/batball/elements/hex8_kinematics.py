@@ -177,7 +177,7 @@ def midstep_velocity_gradient(x: Modes, v: Modes, dt: float) -> tuple[Tensor, fl
 @nb.njit(inline="always", fastmath=FASTMATH)
 def deviator_update(
     lg: Tensor, s_inf: Voigt, h: Voigt, two_g_inf: float, decay: float, scale: float, dt: float
-) -> tuple[Voigt, Voigt, float, float]:
+) -> tuple[Voigt, Voigt, float, float, Tensor, Voigt]:
     """Rotate (Hughes-Winget) and advance (MAT_006) the stored deviatoric stresses.
 
     Args:
@@ -185,8 +185,9 @@ def deviator_update(
         two_g_inf, decay, scale: the material's step factors; dt: the step [s].
 
     Returns:
-        The new s_inf and h, tr D [1/s] and the midpoint deviatoric stress power per volume
-        (s_inf + h) : dev(D) dt [J/m^3].
+        The new s_inf and h, tr D [1/s], the midpoint deviatoric stress power per volume
+        (s_inf + h) : dev(D) dt [J/m^3], the rotation Q (9-tuple) and dev(D) dt (Voigt), which
+        further Prony terms reuse.
     """
     q = cayley_rotation(0.5 * (lg[1] - lg[3]), 0.5 * (lg[5] - lg[7]), 0.5 * (lg[6] - lg[2]), dt)
     s_rotated = rotate_voigt(s_inf, q)
@@ -194,13 +195,13 @@ def deviator_update(
     de, trd = deviatoric_increment(lg, dt)
     s_new, h_new = advance_deviator(s_rotated, h_rotated, de, two_g_inf, decay, scale)
     work = half_stress_work(s_rotated, h_rotated, de) + half_stress_work(s_new, h_new, de)
-    return s_new, h_new, trd, work
+    return s_new, h_new, trd, work, q, de
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
 def element_kinematics(
     x: Modes, v: Modes, s_inf: Voigt, h: Voigt, factors: tuple[float, float, float], dt: float
-) -> tuple[Voigt, Voigt, float, float, float, Modes, float]:
+) -> tuple[Voigt, Voigt, float, float, float, Modes, float, Tensor, Voigt]:
     """The stress update on the mid-step geometry and the volume gradient on x^n.
 
     Args:
@@ -210,11 +211,31 @@ def element_kinematics(
 
     Returns:
         New s_inf and h, tr D [1/s], the deviatoric work per volume [J/m^3], the mid-step
-        volume [m^3], G_1..G_6 on x^n [m^2] and the volume V [m^3].
+        volume [m^3], G_1..G_6 on x^n [m^2], the volume V [m^3], the step's rotation Q and
+        dev(D) dt (for further Prony terms).
     """
     lg, vmid = midstep_velocity_gradient(x, v, dt)
-    s_new, h_new, trd, dev_work = deviator_update(
+    s_new, h_new, trd, dev_work, q, de = deviator_update(
         lg, s_inf, h, factors[0], factors[1], factors[2], dt
     )
     g1, g2, g3, g4, g5, g6, vol = modal_volume_gradient(x[0], x[1], x[2], x[3], x[4], x[5])
-    return s_new, h_new, trd, dev_work, vmid, (g1, g2, g3, g4, g5, g6), vol
+    return s_new, h_new, trd, dev_work, vmid, (g1, g2, g3, g4, g5, g6), vol, q, de
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def advance_prony_term(
+    h: Voigt, q: Tensor, de: Voigt, decay: float, scale: float
+) -> tuple[Voigt, float]:
+    """One further Prony term: h <- decay Q h Q^T + scale de, and its midpoint work per volume
+    h : de [J/m^3] (the same recursion as MAT_006's relaxing branch, physics.md section 1.3)."""
+    r = rotate_voigt(h, q)
+    new = (
+        decay * r[0] + scale * de[0],
+        decay * r[1] + scale * de[1],
+        decay * r[2] + scale * de[2],
+        decay * r[3] + scale * de[3],
+        decay * r[4] + scale * de[4],
+        decay * r[5] + scale * de[5],
+    )
+    zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    return new, half_stress_work(zero, r, de) + half_stress_work(zero, new, de)

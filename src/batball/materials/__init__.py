@@ -14,10 +14,11 @@ from batball.materials.orthotropic import (
     rotated_stiffness,
 )
 from batball.materials.parameters import Parameter
+from batball.materials.prony import PRONY_LAWS, PronyLaw
 from batball.materials.viscoelastic import MAT006
 
 #: The registry read by spec validation and by the CLI's listings.
-MATERIAL_LAWS: dict[str, MaterialLaw] = {law.name: law for law in (MAT006, ELASTIC)}
+MATERIAL_LAWS: dict[str, MaterialLaw] = {law.name: law for law in (MAT006, ELASTIC, *PRONY_LAWS)}
 
 #: Shell-layer (lamina) laws, kept apart from MATERIAL_LAWS: a lamina gives a plane-stress
 #: stiffness for layered shells, not the hex kernel's constants (MaterialLaw.kernel_constants).
@@ -33,6 +34,7 @@ __all__ = [
     "OrthotropicLamina",
     "Parameter",
     "Ply",
+    "PronyLaw",
     "isotropic_lamina",
     "rotated_stiffness",
 ]

@@ -45,11 +45,13 @@ class MaterialLaw(ABC):
 
     @abstractmethod
     def kernel_constants(self, values: Mapping[str, float]) -> np.ndarray:
-        """Kernel constants, shape ``(4,)``: K, G0, G_inf (Pa), beta (1/s)."""
+        """Kernel constants, shape ``(2 N + 2,)``: K, G0, G_inf (Pa), beta_1 (1/s), then the
+        pairs (G_i (Pa), beta_i (1/s)) of Prony terms 2..N; N = 1 (MAT_006) gives ``(4,)``."""
 
     def wave_speed(self, values: Mapping[str, float], density: float) -> float:
         """Dilatational wave speed (m/s) from the stiffest (instantaneous) moduli."""
-        bulk, g0, _, _ = self.kernel_constants(values)
+        constants = self.kernel_constants(values)
+        bulk, g0 = constants[0], constants[1]
         return float(np.sqrt((bulk + 4.0 * g0 / 3.0) / density))
 
 

@@ -126,7 +126,8 @@ class Model:
     Attributes:
         mesh: the body's hex mesh.
         cell_material: (n_cells,) row into ``material_constants`` and ``densities``.
-        material_constants: (n_materials, 4) K, G0, G_inf [Pa], beta [1/s].
+        material_constants: (n_materials, 2 N + 2) K, G0, G_inf [Pa], beta_1 [1/s], then (G_i [Pa],
+            beta_i [1/s]) of Prony terms 2..N (N = 1 for MAT_006; see MaterialLaw).
         densities: (n_materials,) [kg/m^3].
         contacts: the rigid targets.
         initial_velocity: (n_points, 3) [m/s].
@@ -233,7 +234,7 @@ def initial_state(model: Model) -> State:
         points=model.mesh.points.copy(),
         velocities=model.initial_velocity.copy(),
         s_inf=np.zeros((n_cells, 6)),
-        h=np.zeros((n_cells, 6)),
+        h=np.zeros((n_cells, 3 * model.material_constants.shape[1] - 6)),  # 6 per Prony term
         pressure=np.zeros(n_cells),
         hg_state=np.zeros((n_cells, 4, 3)),
         energies=np.zeros(kern.N_ENERGIES),

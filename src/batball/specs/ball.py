@@ -14,6 +14,10 @@ A ball spec file looks like the embedded defaults (``specs/data/type1.toml``)::
     g_inf = "750 psi"
     beta = "75000 1/s"
 
+A generalised viscoelastic ball (``law = "prony3"``, :mod:`batball.materials.prony`) gives
+``bulk_modulus``, ``g_inf`` and ``g1``/``beta1`` .. ``g3``/``beta3`` instead of ``g0``, ``g_inf``,
+``beta``; ``batball calibrate --save`` writes either kind.
+
 Everything is validated on load; errors are :class:`~batball.errors.SpecError` naming the dotted
 field (``"material.g_inf"``), the value given and what is allowed.
 """

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Full calibrations of the seed's ball types against the seed's experiment columns (Tables 5-8),
+# and the cross-validation fits. Writes benchmarks/calibration/<name>.json (the --json report) and
+# the fitted ball specs; studies go to $STUDIES (default runs/), so a rerun reuses finished runs.
+# Usage: benchmarks/calibrate_seed_balls.sh [name ...]   (names below; default: all)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+OUT=benchmarks/calibration
+STUDIES=${STUDIES:-runs}
+PY=${PY:-python}
+declare -A ARGS=(
+  [type1-mat006]="--ball type1 --model mat006"
+  [type2-mat006]="--ball type2 --model mat006"
+  [type1-prony3]="--ball type1 --model prony3"
+  [type2-prony3]="--ball type2 --model prony3"
+  [type1-mat006-fit95]="--ball type1 --model mat006 --fit-speeds 95mph"
+  [type1-mat006-fit110]="--ball type1 --model mat006 --fit-speeds 110mph"
+)
+names=("$@")
+[ ${#names[@]} -eq 0 ] && names=(type1-mat006 type2-mat006 type1-prony3 type2-prony3 type1-mat006-fit95 type1-mat006-fit110)
+for name in "${names[@]}"; do
+  # shellcheck disable=SC2086
+  $PY -m batball.cli calibrate ${ARGS[$name]} --study "$STUDIES/calibrate-$name.db" \
+    --save "$OUT/$name.toml" --json --no-progress > "$OUT/$name.json"
+  echo "$name: $(grep -m1 wall_seconds "$OUT/$name.json")"
+done

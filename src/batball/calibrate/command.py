@@ -1,0 +1,269 @@
+"""``batball calibrate``: options, the run of a study and its report (table or JSON).
+
+Import-light at module level (the CLI builds its parser from here); the heavy imports happen
+when the command runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import time
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from batball.errors import SpecError
+
+#: Parameters fitted by default, per model (``--free`` replaces them).
+DEFAULT_FREE: dict[str, tuple[str, ...]] = {
+    "mat006": ("bulk_modulus", "g0", "g_inf", "beta"),
+    "prony3": ("g_inf", "g1", "beta1", "g2", "beta2", "g3", "beta3"),
+}
+
+
+def add_calibrate_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``batball calibrate``."""
+    p.add_argument("--ball", default="type1", help="embedded ball (type1, type2) or a TOML file")
+    p.add_argument("--model", choices=sorted(DEFAULT_FREE), help="material model (ball's own)")
+    p.add_argument("--targets", type=Path, help="TOML or CSV of targets (default: seed Tables 5-8)")
+    p.add_argument("--fit-speeds", action="append", help="fit only targets at this speed; repeat")
+    p.add_argument("--free", action="append", help="a parameter to fit; repeat (default: model's)")
+    p.add_argument("--bound", action="append", default=[], help="NAME=LOWER:UPPER with units")
+    p.add_argument("--quick", action="store_true", help="coarse mesh only, small budget")
+    p.add_argument("--global-points", type=int, help="Latin-hypercube points (12; quick 6)")
+    p.add_argument("--coarse-divisions", type=int, help="coarse ball mesh (8; quick 6)")
+    p.add_argument("--fine-divisions", type=int, default=12, help="full ball mesh (12)")
+    p.add_argument("--max-evaluations", type=int, help="least-squares evaluations (25; quick 10)")
+    p.add_argument("--study", type=Path, help="SQLite study file (runs/calibrate-BALL-MODEL.db)")
+    p.add_argument("--workers", type=int, help="local process pool size (default: CPU cores)")
+    p.add_argument("--scheduler", help="Dask scheduler address instead of the local pool")
+    p.add_argument("--save", type=Path, help="write the fitted ball as a spec TOML file")
+    p.add_argument("--no-progress", action="store_true", help="no progress bars")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def optimiser_options(args: argparse.Namespace) -> Any:
+    """The :class:`~batball.calibrate.OptimiserOptions` of the parsed options."""
+    from batball.calibrate import OptimiserOptions
+
+    quick = args.quick
+    options = OptimiserOptions(
+        global_points=args.global_points if args.global_points is not None else 6 if quick else 12,
+        coarse_divisions=args.coarse_divisions or (6 if quick else 8),
+        coarse_evaluations=args.max_evaluations or (10 if quick else 25),
+        fine_divisions=None if quick else args.fine_divisions,
+    )
+    for name in ("coarse_divisions", "fine_divisions"):
+        value = getattr(options, name)
+        if value is not None and not 2 <= value <= 40:
+            raise SpecError(name.replace("_", "-"), value, "an integer 2..40 (12 = seed mesh)")
+    return options
+
+
+def starting_ball(args: argparse.Namespace) -> Any:
+    """The ball to calibrate, its material converted to ``--model`` if that differs."""
+    from batball.materials.prony import prony_from_mat006
+    from batball.specs import MaterialSpec, load_ball_spec
+
+    ball = load_ball_spec(args.ball)
+    model = args.model or ball.material.law
+    if model not in DEFAULT_FREE:
+        raise SpecError("model", model, f"one of {', '.join(DEFAULT_FREE)}")
+    if model == ball.material.law:
+        return ball
+    if ball.material.law != "mat006" or not model.startswith("prony"):
+        raise SpecError("model", model, f"the ball's own law {ball.material.law} or prony3")
+    values = prony_from_mat006(ball.material.values, n_terms=int(model.removeprefix("prony")))
+    return dataclasses.replace(ball, material=MaterialSpec(law=model, values=values))
+
+
+def select_targets(args: argparse.Namespace, ball_name: str) -> tuple[Any, Any]:
+    """(all targets, the ones fitted): ``--targets`` or the seed's, filtered by ``--fit-speeds``."""
+    from batball.calibrate import load_targets, seed_targets
+    from batball.specs.ball import EMBEDDED_BALLS
+    from batball.units import parse_quantity
+
+    if args.targets is not None:
+        targets = load_targets(args.targets)
+    elif ball_name in EMBEDDED_BALLS:
+        targets = seed_targets(ball_name)
+    else:
+        raise SpecError("targets", "none", "a --targets file for a ball other than type1/type2")
+    if not args.fit_speeds:
+        return targets, targets
+    speeds = [parse_quantity(s, "velocity", field="fit-speeds") for s in args.fit_speeds]
+    fitted = tuple(t for t in targets if any(abs(t.speed - s) < 0.05 for s in speeds))
+    if not fitted:
+        raise SpecError("fit-speeds", args.fit_speeds, "speeds that some target has")
+    return targets, fitted
+
+
+def run_calibrate_command(args: argparse.Namespace) -> int:
+    """``batball calibrate``."""
+    import json
+
+    from batball.calibrate import (
+        CalibrationProblem,
+        Evaluator,
+        StudyStore,
+        calibrate,
+        make_parameter_space,
+        open_executor,
+        parse_bounds,
+        predict,
+    )
+    from batball.calibrate.executors import default_workers
+
+    start = time.perf_counter()
+    ball = starting_ball(args)
+    law = ball.material.material_law
+    targets, fitted_targets = select_targets(args, ball.name)
+    space = make_parameter_space(
+        law, ball.material.values, args.free or DEFAULT_FREE[law.name],
+        bounds=parse_bounds(args.bound, law),
+    )  # fmt: skip
+    options = optimiser_options(args)
+    study = args.study or Path("runs") / f"calibrate-{ball.name}-{law.name}.db"
+    study.parent.mkdir(parents=True, exist_ok=True)
+    store = StudyStore(study)
+    workers = default_workers() if args.workers is None else args.workers
+    problem = CalibrationProblem(ball, space, fitted_targets, divisions=options.coarse_divisions)
+    with open_executor(workers=workers, scheduler=args.scheduler) as executor:
+        evaluator = Evaluator(store, executor, progress=not args.no_progress)
+        result = calibrate(problem, evaluator, options)
+        everything = dataclasses.replace(result.problem, targets=targets)
+        final = predict(everything, evaluator, result.best.values)
+    fitted_ball = everything.candidate(result.best.values)
+    summary = calibration_summary(
+        ball=fitted_ball, space=space, targets=targets, fitted=fitted_targets, final=final,
+        result=result, store=store, computed=evaluator.computed,
+        wall_seconds=time.perf_counter() - start,
+    )  # fmt: skip
+    summary["study"] = str(study)
+    if args.save is not None:
+        save_ball(fitted_ball, args.save)
+        summary["saved"] = str(args.save)
+    store.close()
+    print(json.dumps(summary, indent=2) if args.json else describe_calibration(summary))
+    return 0
+
+
+def save_ball(ball: Any, path: Path) -> None:
+    """Write ``ball`` as a spec TOML (readable by ``load_ball_spec`` and every test command)."""
+    import tomli_w
+
+    from batball.specs.ball import ball_spec_to_toml_dict
+
+    document = ball_spec_to_toml_dict(ball)
+    document["description"] = f"calibrated by batball calibrate ({ball.material.law})"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(tomli_w.dumps(document), encoding="utf-8")
+
+
+def _percent(value: float | None, measured: float) -> float | None:
+    """100 (value - measured) / measured, or None."""
+    if value is None or value != value:
+        return None
+    return 100.0 * (value - measured) / measured
+
+
+def _display(value: float | None, unit: str) -> float | None:
+    """An SI value in ``unit`` ("" = dimensionless); None for a missing or NaN value."""
+    from batball.units import to_unit
+
+    if value is None or value != value:
+        return None
+    return to_unit(value, unit) if unit else value
+
+
+def target_rows(targets: Sequence[Any], fitted: Sequence[Any], simulated: Any) -> list[dict]:
+    """One JSON-able row per target: measured, fitted, seed LS-DYNA and both % differences."""
+    from batball.units import to_unit
+
+    rows = []
+    for target, value in zip(targets, simulated, strict=True):
+        unit = target.spec.display_unit
+        rows.append(
+            {
+                "target": target.label,
+                "quantity": target.quantity,
+                "speed_mph": round(to_unit(target.speed, "mph"), 3),
+                "unit": unit,
+                "measured": _display(target.value, unit),
+                "fitted": _display(float(value), unit),
+                "seed_fe": _display(target.reference, unit),
+                "fitted_pct": _percent(float(value), target.value),
+                "seed_fe_pct": _percent(target.reference, target.value),
+                "goal_pct": 100.0 * target.spec.tolerance,
+                "used_in_fit": target in fitted,
+            }
+        )
+    return rows
+
+
+def calibration_summary(
+    *,
+    ball: Any,
+    space: Any,
+    targets: Sequence[Any],
+    fitted: Sequence[Any],
+    final: Any,
+    result: Any,
+    store: Any,
+    computed: int,
+    wall_seconds: float,
+) -> dict[str, Any]:
+    """The JSON-able outcome of a calibration."""
+    return {
+        "ball": ball.name,
+        "model": space.law.name,
+        "parameters": space.describe(final.values),
+        "parameters_si": {p.name: final.values[p.name] for p in space.free},
+        "targets": target_rows(targets, fitted, final.simulated),
+        "stages": [
+            {
+                "name": s.name,
+                "divisions": s.divisions,
+                "candidates": s.n_candidates,
+                "cost": s.best.cost,
+            }
+            for s in result.stages
+        ],  # fmt: skip
+        "divisions": result.problem.divisions,
+        "runs_computed": computed,
+        "runs_stored": len(store),
+        "wall_seconds": wall_seconds,
+    }
+
+
+def describe_calibration(s: Mapping[str, Any]) -> str:
+    """The text report: the per-target table and the fitted parameters."""
+    lines = [
+        f"calibration of ball {s['ball']} ({s['model']}, final mesh divisions {s['divisions']})",
+        f"  {'target':<26} {'measured':>9} {'fitted':>9} {'seed FE':>9} {'fit %':>7} {'FE %':>7}",
+    ]
+    for r in s["targets"]:
+        mark = "" if r["used_in_fit"] else "  (predicted)"
+        name = f"{r['target']} [{r['unit'] or '-'}]"
+
+        def num(v: float | None) -> str:
+            return f"{v:9.4g}" if v is not None else f"{'-':>9}"
+
+        def pct(v: float | None) -> str:
+            return f"{v:+7.1f}" if v is not None else f"{'-':>7}"
+
+        lines.append(
+            f"  {name:<26} {num(r['measured'])} {num(r['fitted'])} {num(r['seed_fe'])} "
+            f"{pct(r['fitted_pct'])} {pct(r['seed_fe_pct'])}{mark}"
+        )
+    lines.append(
+        "  fitted parameters: " + ", ".join(f"{k} = {v}" for k, v in s["parameters"].items())
+    )
+    lines.append(
+        f"  {s['runs_computed']} runs computed, {s['runs_stored']} in the study {s['study']}, "
+        f"{s['wall_seconds']:.0f} s"
+    )
+    if "saved" in s:
+        lines.append(f"  fitted ball written to {s['saved']}")
+    return "\n".join(lines)

@@ -1,0 +1,52 @@
+"""The calibrated balls (benchmarks/calibration/<ball>-<model>.toml, written by
+``batball calibrate --save``) against the seed's Tables 5-8 on the full 12,096-hex ball.
+
+Issue 4: every cell at least as close to the experiment as the seed's LS-DYNA column, except the
+ones docs/calibration.md lists as not reached (type 1's CCOR at 95 mph with MAT_006: the one-term
+model cannot follow CCOR's fall with speed; see the trade-off there).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from batball.lab.impact import ImpactSetup, run_impact
+from batball.specs import load_ball_spec
+from batball.specs.seed import load_seed_tables
+
+MPH = 0.44704
+FITTED = Path(__file__).resolve().parents[2] / "benchmarks" / "calibration"
+QUANTITIES = {
+    "ccor": ("restitution", "ccor"),
+    "dynamic_stiffness": ("dynamic_stiffness", "ds"),
+    "peak_force": ("peak_force", "peak"),
+    "contact_time": ("contact_time", "contact"),
+}
+#: (fit, ball, speed, quantity) cells the fit does not bring closer than the seed's LS-DYNA.
+NOT_REACHED = {("type1-mat006", 95, "ccor")}
+_RUNS: dict[tuple[str, int], object] = {}
+
+
+def measures(fit: str, mph: int):
+    if (fit, mph) not in _RUNS:
+        setup = ImpactSetup(test="ccor", speed=mph * MPH, divisions=12)
+        _RUNS[fit, mph] = run_impact(load_ball_spec(FITTED / f"{fit}.toml"), setup).measures
+    return _RUNS[fit, mph]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("quantity", list(QUANTITIES))
+@pytest.mark.parametrize("mph", [95, 110])
+@pytest.mark.parametrize("fit", ["type1-mat006", "type2-mat006"])
+def test_calibrated_ball_is_as_close_to_the_experiment_as_the_seed(fit, mph, quantity) -> None:
+    attribute, column = QUANTITIES[quantity]
+    row = load_seed_tables().ball_impact(fit.split("-")[0], mph)
+    experiment, seed = getattr(row, f"{column}_exp"), getattr(row, f"{column}_fe")
+    batball = getattr(measures(fit, mph), attribute)
+    closer = abs(batball - experiment) <= abs(seed - experiment)
+    if (fit, mph, quantity) in NOT_REACHED:
+        assert not closer, "reached now: remove it from NOT_REACHED and docs/calibration.md"
+    else:
+        assert closer, f"{batball:.5g} vs experiment {experiment:.5g}, seed {seed:.5g}"

@@ -1,0 +1,63 @@
+"""``batball calibrate``: JSON report, the saved ball used by another test, bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from batball.cli import main
+from batball.specs import load_ball_spec
+
+PSI = 6894.757293168361
+TINY = ["--quick", "--coarse-divisions", "4", "--global-points", "2", "--max-evaluations", "3",
+        "--workers", "0", "--no-progress", "--json"]  # fmt: skip
+
+
+def test_calibrate_reports_every_seed_target_and_saves_a_ball_ccor_can_run(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    saved = tmp_path / "fitted.toml"
+    args = ["calibrate", "--ball", "type2", "--free", "g0", "--study", str(tmp_path / "s.db")]
+    assert main([*args, *TINY, "--save", str(saved)]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert [r["target"] for r in report["targets"]][:4] == [
+        "ccor @ 95 mph", "dynamic_stiffness @ 95 mph", "peak_force @ 95 mph",
+        "contact_time @ 95 mph",
+    ]  # fmt: skip
+    ds = report["targets"][1]
+    assert (ds["measured"], ds["seed_fe"], ds["unit"]) == pytest.approx((5760, 4610, "lbf/in"))
+    assert ds["seed_fe_pct"] == pytest.approx(100 * (4610 - 5760) / 5760)
+    assert list(report["parameters"]) == ["g0"] and report["parameters"]["g0"].endswith("psi")
+    fitted = load_ball_spec(saved)
+    assert fitted.material.values["g0"] == pytest.approx(report["parameters_si"]["g0"], rel=1e-11)
+    assert fitted.material.values["beta"] == 60000.0  # not freed: the seed's value kept
+    assert main(["ccor", "--ball", str(saved), "--divisions", "4", "--json",
+                 "--runs-dir", str(tmp_path / "runs")]) == 0  # fmt: skip
+    assert 0.0 < json.loads(capsys.readouterr().out)["ccor"] < 1.0
+
+
+def test_prony3_model_starts_from_the_mat006_ball(tmp_path: Path, capsys) -> None:
+    args = ["calibrate", "--ball", "type1", "--model", "prony3", "--free", "g1", "--fit-speeds",
+            "95 mph", "--study", str(tmp_path / "s.db"), *TINY]  # fmt: skip
+    assert main(args) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["model"] == "prony3"
+    used = {r["target"]: r["used_in_fit"] for r in report["targets"]}
+    assert used["ccor @ 95 mph"] and not used["ccor @ 110 mph"]  # 110 mph predicted
+
+
+@pytest.mark.parametrize(
+    ("extra", "field"),
+    [
+        (["--free", "gamma"], "free: 'gamma'"),
+        (["--free", "g0", "--bound", "g0=1 psi:1e15 psi"], "bounds.g0"),
+        (["--model", "mat006", "--ball", "nowhere.toml"], "ball"),
+    ],
+)
+def test_bad_input_exits_2_naming_the_field(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], extra: list[str], field: str
+) -> None:
+    assert main(["calibrate", *extra, "--study", str(tmp_path / "s.db"), *TINY]) == 2
+    assert field in capsys.readouterr().err
