@@ -440,6 +440,12 @@ def add_reproduce_parser(sub: Any) -> None:
         help="coarse meshes (ball divisions 6, 16 bat shells around): a first look, CI",
     )
     p.add_argument("--out", type=Path, default=Path("report"), help="report folder (report/)")
+    p.add_argument(
+        "--calibrate",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="calibrate both balls (Table 4); default: yes, but not with --quick",
+    )
     add_store_options(p)
     p.add_argument("--json", action="store_true", help="print summary.json on stdout")
     p.set_defaults(handler=run_reproduce_command)  # fmt: skip
@@ -455,12 +461,15 @@ def run_reproduce_command(args: argparse.Namespace) -> int:
         reproduce,
     )
 
-    command = " ".join(["batball", "reproduce", *(["--quick"] if args.quick else []),
+    calibrate = not args.quick if args.calibrate is None else args.calibrate
+    flag = {None: [], True: ["--calibrate"], False: ["--no-calibrate"]}[args.calibrate]
+    command = " ".join(["batball", "reproduce", *(["--quick"] if args.quick else []), *flag,
                         "--out", args.out.as_posix(), "--runs-dir", args.runs_dir.as_posix(),
                         *(["--no-reuse"] if args.no_reuse else [])])  # fmt: skip
     options = ReproduceOptions(out_dir=args.out, runs_dir=args.runs_dir,
                                meshes=QUICK_MESHES if args.quick else FULL_MESHES,
-                               reuse=not args.no_reuse, command=command)  # fmt: skip
+                               reuse=not args.no_reuse, command=command,
+                               calibrate=calibrate)  # fmt: skip
     result = reproduce(options)
     print(dump_summary(result) if args.json else describe_reproduction(result))
     return 0
@@ -471,12 +480,17 @@ def describe_reproduction(result: Any) -> str:
     from batball.report.reproduce_html import verdict_counts
 
     counts = verdict_counts(result)
-    missing = ", ".join(o.test.name for o in result.outcomes if not o.available) or "none"
+    missing = (
+        ", ".join(o.test.name for o in result.outcomes if not o.available and not o.skipped)
+        or "none"
+    )
+    skipped = [f"  {o.test.name} {o.missing}" for o in result.outcomes if o.skipped]
     return "\n".join([
         f"report: {(result.options.out_dir / 'index.html').as_posix()}",
         f"  batball closer to the experiment than the seed's LS-DYNA in {counts['closer']} cells, "
         f"as close in {counts['tie']}, farther in {counts['farther']}",
         f"  not yet available: {missing}",
+        *skipped,
         f"  {result.seconds:.1f} s",
     ])  # fmt: skip
 

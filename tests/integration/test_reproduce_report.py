@@ -1,7 +1,8 @@
 """``batball reproduce --quick`` end to end on the smallest meshes, opened in headless Chromium.
 
-The real runners run (props, modal, the four CCOR cases); only the quick mesh sizes are shrunk so
-the whole report takes seconds once Numba's cache is warm. The browser check needs Debian's
+The real runners run (props, modal, the four CCOR cases, the calibration of both balls); only the
+quick mesh sizes and the calibration's budget are shrunk so the whole report takes seconds once
+Numba's cache is warm. The browser check needs Debian's
 ``chromium`` (``.ci/run`` installs it) and is skipped, saying so, without it.
 """
 
@@ -16,19 +17,28 @@ from pathlib import Path
 import pytest
 
 import batball.report.reproduce as reproduce_module
+from batball.calibrate import OptimiserOptions
 from batball.cli import main
 
 TINY = reproduce_module.MeshSizes(ball_divisions=2, bat_circumferential=8, bat_axial_size=0.0254)
+#: The calibration's smallest budget: the start and 1 Latin-hypercube point, 2 least-squares steps.
+TINY_CALIBRATION = OptimiserOptions(
+    global_points=1, coarse_divisions=2, coarse_evaluations=2, fine_divisions=None
+)
 SEED_TABLE_IDS = [f"table{n}" for n in range(1, 10)] + ["compression"]
+TABLE_IDS = [*SEED_TABLE_IDS, "calibrated_type1", "calibrated_type2"]
 
 
 @pytest.fixture(scope="module")
 def report(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A --quick report (tiny meshes), run twice: the second run reuses every stored run."""
+    """A --quick --calibrate report (tiny meshes, tiny calibration budget), run twice: the second
+    run reuses every stored run and every calibration evaluation."""
     root = tmp_path_factory.mktemp("reproduce")
-    args = ["reproduce", "--quick", "--out", str(root / "report"), "--runs-dir", str(root / "runs")]
+    args = ["reproduce", "--quick", "--calibrate", "--out", str(root / "report"),
+            "--runs-dir", str(root / "runs")]  # fmt: skip
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(reproduce_module, "QUICK_MESHES", TINY)
+        patch.setattr(reproduce_module, "calibration_options", lambda _: TINY_CALIBRATION)
         assert main(args) == 0
         shutil.copyfile(root / "report" / "summary.json", root / "first_summary.json")
         assert main(args) == 0
@@ -37,14 +47,30 @@ def report(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def test_report_files_and_measured_values(report: Path) -> None:
     out = report / "report"
-    for name in ("index.html", "summary.json", *(f"{t}.csv" for t in SEED_TABLE_IDS)):
+    for name in ("index.html", "summary.json", *(f"{t}.csv" for t in TABLE_IDS)):
         assert (out / name).is_file(), name
     summary = json.loads((out / "summary.json").read_text())
     assert summary["meshes"]["ball_divisions"] == TINY.ball_divisions
-    for name in ("props", "modal", "ccor"):
+    for name in ("props", "modal", "ccor", "calibrate"):
         assert summary["tests"][name]["available"], name
     assert len(summary["tests"]["ccor"]["runs"]) == 4
     rows = {r["key"]: r for t in summary["tables"].values() for r in t["rows"]}
+    calibrations = {r["label"]: r for r in summary["tests"]["calibrate"]["runs"]}
+    assert set(calibrations) == {"type1", "type2"}
+    for ball, run in calibrations.items():
+        assert Path(run["run_folder"]) == report / "runs" / f"calibrate-{ball}-mat006.db"
+        fitted = run["summary"]["parameters_si"]
+        assert rows[f"material/{ball}/beta"]["batball"] == pytest.approx(fitted["beta"])
+        assert rows[f"material/{ball}/g0"]["batball"] == pytest.approx(
+            fitted["g0"] / 6894.757293168361
+        )
+        for target in run["summary"]["targets"]:  # the calibrate --json rows, one table cell each
+            quantity = reproduce_module.CALIBRATION_QUANTITIES[target["quantity"]]
+            row = rows[f"calibrated/{quantity}/{ball}/{round(target['speed_mph'])}mph"]
+            assert row["batball"] == pytest.approx(target["fitted"])
+            assert row["experiment"] == pytest.approx(target["measured"])
+            assert row["seed_lsdyna"] == pytest.approx(target["seed_fe"])
+            assert row["verdict"] in ("closer", "tie", "farther")
     assert 0.0 < rows["ccor/type1/95mph"]["batball"] < 1.0
     assert 18.0 < rows["props/weight"]["batball"] < 26.0  # ounces, a coarse 22-oz bat
     assert rows["bbs/type1/95mph"]["batball"] is None  # no batted-ball-speed test yet
@@ -80,8 +106,10 @@ def test_report_renders_in_headless_chromium(report: Path) -> None:
     n_figures = len(list((report / "report" / "figures").glob("*.png")))
     assert 'data-images-loaded="all"' in body.group(1), body.group(1)  # every <img> decoded
     assert f'data-image-count="{n_figures}"' in body.group(1)
-    for table_id in SEED_TABLE_IDS:
+    for table_id in TABLE_IDS:
         assert f'data-table="{table_id}"' in dom, table_id
+    table4 = dom[dom.index('data-table="table4"') :].split("</table>")[0]
+    assert "not yet available" not in table4 and "skipped" not in table4
     assert dom.count("<img") == n_figures
     screenshot = report / "report.png"
     run_chromium("--window-size=1280,6000", f"--screenshot={screenshot}", page)

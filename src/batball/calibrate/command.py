@@ -103,6 +103,42 @@ def run_calibrate_command(args: argparse.Namespace) -> int:
     """``batball calibrate``."""
     import json
 
+    ball = starting_ball(args)
+    targets, fitted_targets = select_targets(args, ball.name)
+    study = args.study or Path("runs") / f"calibrate-{ball.name}-{ball.material.law}.db"
+    fitted_ball, summary = run_calibration(
+        ball, optimiser_options(args), study=study, targets=targets, fitted=fitted_targets,
+        free=args.free, bounds=args.bound, workers=args.workers, scheduler=args.scheduler,
+        progress=not args.no_progress,
+    )  # fmt: skip
+    if args.save is not None:
+        save_ball(fitted_ball, args.save)
+        summary["saved"] = str(args.save)
+    print(json.dumps(summary, indent=2) if args.json else describe_calibration(summary))
+    return 0
+
+
+def run_calibration(
+    ball: Any,
+    options: Any,
+    *,
+    study: Path,
+    targets: Sequence[Any],
+    fitted: Sequence[Any] | None = None,
+    free: Sequence[str] | None = None,
+    bounds: Sequence[str] = (),
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = False,
+) -> tuple[Any, dict[str, Any]]:
+    """Calibrate ``ball``'s material to ``targets``: the fitted ball and the JSON-able summary.
+
+    What ``batball calibrate`` runs, for other callers (``batball reproduce``). ``fitted``: the
+    targets the fit uses (default all; the others are predicted); ``free``: parameters to fit
+    (default :data:`DEFAULT_FREE` of the ball's law); ``bounds``: ``NAME=LOWER:UPPER`` strings;
+    ``study``: the SQLite study file, created or resumed (finished runs are not repeated);
+    ``workers``: local pool size (default: CPU cores; 0 runs in this process).
+    """
     from batball.calibrate import (
         CalibrationProblem,
         Evaluator,
@@ -116,37 +152,35 @@ def run_calibrate_command(args: argparse.Namespace) -> int:
     from batball.calibrate.executors import default_workers
 
     start = time.perf_counter()
-    ball = starting_ball(args)
+    targets = tuple(targets)
+    fitted_targets = targets if fitted is None else tuple(fitted)
     law = ball.material.material_law
-    targets, fitted_targets = select_targets(args, ball.name)
     space = make_parameter_space(
-        law, ball.material.values, args.free or DEFAULT_FREE[law.name],
-        bounds=parse_bounds(args.bound, law),
+        law, ball.material.values, free or DEFAULT_FREE[law.name],
+        bounds=parse_bounds(list(bounds), law),
     )  # fmt: skip
-    options = optimiser_options(args)
-    study = args.study or Path("runs") / f"calibrate-{ball.name}-{law.name}.db"
     study.parent.mkdir(parents=True, exist_ok=True)
     store = StudyStore(study)
-    workers = default_workers() if args.workers is None else args.workers
-    problem = CalibrationProblem(ball, space, fitted_targets, divisions=options.coarse_divisions)
-    with open_executor(workers=workers, scheduler=args.scheduler) as executor:
-        evaluator = Evaluator(store, executor, progress=not args.no_progress)
-        result = calibrate(problem, evaluator, options)
-        everything = dataclasses.replace(result.problem, targets=targets)
-        final = predict(everything, evaluator, result.best.values)
-    fitted_ball = everything.candidate(result.best.values)
-    summary = calibration_summary(
-        ball=fitted_ball, space=space, targets=targets, fitted=fitted_targets, final=final,
-        result=result, store=store, computed=evaluator.computed,
-        wall_seconds=time.perf_counter() - start,
-    )  # fmt: skip
+    try:
+        problem = CalibrationProblem(
+            ball, space, fitted_targets, divisions=options.coarse_divisions
+        )
+        workers = default_workers() if workers is None else workers
+        with open_executor(workers=workers, scheduler=scheduler) as executor:
+            evaluator = Evaluator(store, executor, progress=progress)
+            result = calibrate(problem, evaluator, options)
+            everything = dataclasses.replace(result.problem, targets=targets)
+            final = predict(everything, evaluator, result.best.values)
+        fitted_ball = everything.candidate(result.best.values)
+        summary = calibration_summary(
+            ball=fitted_ball, space=space, targets=targets, fitted=fitted_targets, final=final,
+            result=result, store=store, computed=evaluator.computed,
+            wall_seconds=time.perf_counter() - start,
+        )  # fmt: skip
+    finally:
+        store.close()
     summary["study"] = str(study)
-    if args.save is not None:
-        save_ball(fitted_ball, args.save)
-        summary["saved"] = str(args.save)
-    store.close()
-    print(json.dumps(summary, indent=2) if args.json else describe_calibration(summary))
-    return 0
+    return fitted_ball, summary
 
 
 def save_ball(ball: Any, path: Path) -> None:

@@ -24,7 +24,12 @@ from pathlib import Path
 from typing import Any
 
 from batball.io.store import load_cached_summary, write_json_atomic, write_text_atomic
-from batball.report.seed_comparison import BALL_CASES, ComparisonTable, comparison_tables
+from batball.report.seed_comparison import (
+    BALL_CASES,
+    CALIBRATED_BALLS,
+    ComparisonTable,
+    comparison_tables,
+)
 from batball.specs import BallSpec, BatSpec, load_ball_spec, load_bat_spec, load_seed_tables
 
 MPH = 0.44704  # m/s
@@ -64,6 +69,9 @@ class ReproduceOptions:
         balls: embedded balls to test; bat: the embedded bat.
         log: progress sink.
         command: the command line, as the report states it.
+        calibrate: run the ball calibration (``batball reproduce`` turns it off with
+            ``--quick`` unless ``--calibrate`` is given).
+        workers: the calibration's local process pool (None: CPU cores; 0: this process).
     """
 
     out_dir: Path
@@ -74,6 +82,8 @@ class ReproduceOptions:
     bat: str = "default"
     log: Callable[[str], None] = log_to_stderr
     command: str = "batball reproduce"
+    calibrate: bool = True
+    workers: int | None = None
 
 
 @dataclass(frozen=True)
@@ -124,6 +134,10 @@ class NotYetAvailableError(Exception):
     """A registered test whose code is not in this installation yet; the message says why."""
 
 
+class SkippedError(NotYetAvailableError):
+    """A test left out of this invocation by its options; the message says how to include it."""
+
+
 Runner = Callable[[Inputs], RunnerOutput]
 
 
@@ -155,6 +169,7 @@ class TestOutcome:
     figures: tuple[ReportFigure, ...] = ()
     missing: str = ""
     seconds: float = 0.0
+    skipped: bool = False  # left out by the options (``missing`` says how to include it)
 
     @property
     def available(self) -> bool:
@@ -252,6 +267,80 @@ def material_values(ball: BallSpec) -> dict[str, float]:
     }
 
 
+#: Quantities of ``batball calibrate``'s targets -> the key prefixes of the report's tables.
+CALIBRATION_QUANTITIES = {
+    "ccor": "ccor",
+    "dynamic_stiffness": "ds",
+    "peak_force": "peak",
+    "contact_time": "contact",
+}
+
+
+def calibration_options(meshes: MeshSizes) -> Any:
+    """The optimiser options of the reproduction: ``batball calibrate``'s defaults for the full
+    meshes, its ``--quick`` settings (coarse mesh only, small budget) for coarser ones."""
+    from batball.calibrate import OptimiserOptions
+
+    if meshes.ball_divisions >= FULL_MESHES.ball_divisions:
+        return OptimiserOptions(fine_divisions=meshes.ball_divisions)
+    return OptimiserOptions(
+        global_points=6,
+        coarse_divisions=meshes.ball_divisions,
+        coarse_evaluations=10,
+        fine_divisions=None,
+    )
+
+
+def calibration_values(ball: BallSpec, summary: dict[str, Any]) -> dict[str, float]:
+    """The report's values of one calibration: Table 4's fitted constants and, per target, the
+    fitted ball's simulated value (``calibrated/ds/type1/95mph``, in the target's unit)."""
+    values = {key: value for key, value in material_values(ball).items()}
+    for row in summary["targets"]:
+        prefix = CALIBRATION_QUANTITIES.get(row["quantity"])
+        if prefix is None or row["fitted"] is None:
+            continue
+        values[f"calibrated/{prefix}/{ball.name}/{round(row['speed_mph'])}mph"] = row["fitted"]
+    return values
+
+
+def run_calibrate(inputs: Inputs) -> RunnerOutput:
+    """Table 4: each ball's MAT_006 constants fitted to the seed's Tables 5-8 experiments.
+
+    The SQLite study lives in the run store as ``calibrate-BALL-MODEL.db`` (the name
+    ``batball calibrate`` uses under ``runs/``): it is keyed by each run's inputs, so a rerun
+    reads every finished evaluation back and only computes what is new. ``--no-reuse`` starts a
+    fresh study file (``...-fresh.db``, replaced each time) and leaves the shared one alone.
+    """
+    if not inputs.options.calibrate:
+        raise SkippedError("skipped: add --calibrate (it runs by default without --quick)")
+    from batball.calibrate import seed_targets
+    from batball.calibrate.command import run_calibration
+
+    options = calibration_options(inputs.options.meshes)
+    runs = []
+    for ball in inputs.balls:
+        suffix = "" if inputs.options.reuse else "-fresh"
+        study = inputs.options.runs_dir / f"calibrate-{ball.name}-{ball.material.law}{suffix}.db"
+        if not inputs.options.reuse:
+            study.unlink(missing_ok=True)
+        inputs.options.log(f"calibrate {ball.name} ({study}) ...")
+        start = time.perf_counter()
+        fitted, summary = run_calibration(
+            ball, options, study=study, targets=seed_targets(ball.name),
+            workers=inputs.options.workers,
+        )  # fmt: skip
+        seconds = time.perf_counter() - start
+        reused = summary["runs_computed"] == 0
+        inputs.options.log(
+            f"calibrate {ball.name}: {summary['runs_computed']} runs computed, "
+            f"{summary['runs_stored']} in the study, {seconds:.1f} s"
+        )
+        runs.append(
+            TestRun(ball.name, summary, study, reused, seconds, calibration_values(fitted, summary))
+        )
+    return RunnerOutput(tuple(runs))
+
+
 def run_ccor(inputs: Inputs) -> RunnerOutput:
     """Tables 5-8: each ball at 95 and 110 mph against the rigid half-cylinder (ASTM F2845)."""
     from batball.lab.impact import ImpactSetup
@@ -279,7 +368,6 @@ def run_ccor(inputs: Inputs) -> RunnerOutput:
                 f"ds/{case}": summary["ds_lbf_per_in"],
                 f"peak/{case}": summary["peak_force_lbf"],
                 f"contact/{case}": summary["contact_time_ms"],
-                **material_values(ball),
             }
             figure = ReportFigure(
                 folder / "force_time.png",
@@ -357,10 +445,9 @@ REPRODUCTION_TESTS: dict[str, ReproductionTest] = {
         ),
         ReproductionTest(
             "calibrate",
-            "ball material calibration to CCOR, DS, peak, contact time",
-            ("table4",),
-            None,
-            "ball calibration (batball calibrate) is not merged yet",
+            "ball material calibration (MAT_006) to the seed's CCOR, DS, peak, contact time",
+            ("table4", *(f"calibrated_{ball}" for ball in CALIBRATED_BALLS)),
+            run_calibrate,
         ),
         ReproductionTest(
             "ccor",
@@ -390,6 +477,9 @@ def run_test(test: ReproductionTest, inputs: Inputs) -> TestOutcome:
     start = time.perf_counter()
     try:
         output = test.run(inputs)
+    except SkippedError as exc:
+        inputs.options.log(f"{test.name}: {exc}")
+        return TestOutcome(test, missing=str(exc), skipped=True)
     except NotYetAvailableError as exc:
         inputs.options.log(f"{test.name}: not yet available ({exc})")
         return TestOutcome(test, missing=str(exc))
@@ -499,6 +589,7 @@ def summary_document(result: Reproduction) -> dict[str, Any]:
                 "title": o.test.title,
                 "tables": list(o.test.tables),
                 "available": o.available,
+                "skipped": o.skipped,
                 "missing": o.missing or None,
                 "seconds": o.seconds,
                 "runs": [

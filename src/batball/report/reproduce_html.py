@@ -70,18 +70,22 @@ def display_unit(unit: str) -> str:
     return unit.replace("**2", "²").replace("*", "·")
 
 
-def batball_cell(row: ComparisonRow, value: float | None, missing: str) -> str:
-    """batball's cell: its value coloured by the verdict, or why there is none."""
+def batball_cell(
+    row: ComparisonRow, value: float | None, missing: str, empty: str = NOT_YET
+) -> str:
+    """batball's cell: its value coloured by the verdict, or ``empty`` and why there is none."""
     if value is None:
         reason = escape(missing or "no run of this batball test measured it")
-        return f'<td class="missing" title="{reason}">{NOT_YET}</td>'
+        return f'<td class="missing" title="{reason}">{escape(empty)}</td>'
     judged = verdict(row, value)
     css = f' class="{judged}"' if judged else ""
     title = f' title="batball is {judged} to the experiment than LS-DYNA"' if judged else ""
     return f"<td{css}{title}>{number(value, row.digits)}</td>"
 
 
-def table_html(table: ComparisonTable, values: Mapping[str, float], missing: str) -> str:
+def table_html(
+    table: ComparisonTable, values: Mapping[str, float], missing: str, empty: str = NOT_YET
+) -> str:
     """One seed table: experiment, the seed's LS-DYNA, batball and the two % differences."""
     head = (
         "<tr><th class='label'>quantity</th><th>unit</th><th>experiment</th>"
@@ -96,7 +100,7 @@ def table_html(table: ComparisonTable, values: Mapping[str, float], missing: str
             f"<td class='label'>{escape(display_unit(row.unit))}</td>"
             f"<td>{number(row.experiment, row.digits)}</td>"
             f"<td>{number(row.seed_fe, row.digits)}</td>"
-            f"{batball_cell(row, ours, missing)}"
+            f"{batball_cell(row, ours, missing, empty)}"
             f"<td>{percent(percent_difference(ours, row.experiment))}</td>"
             f"<td>{percent(percent_difference(row.seed_fe, row.experiment))}</td></tr>"
         )
@@ -136,7 +140,8 @@ def tables_section(result: Reproduction) -> str:
     for table in result.tables:
         outcome = outcomes.get(table.test)
         missing = outcome.missing if outcome is not None else f"no test named {table.test}"
-        parts.append(table_html(table, result.values, missing))
+        empty = "skipped" if outcome is not None and outcome.skipped else NOT_YET
+        parts.append(table_html(table, result.values, missing, empty))
     return "".join(parts)
 
 
@@ -147,6 +152,8 @@ def tests_section(result: Reproduction) -> str:
         if o.available:
             reused = sum(r.reused for r in o.runs)
             status = f"{len(o.runs)} run(s), {reused} reused from the store"
+        elif o.skipped:
+            status = escape(o.missing)
         else:
             status = f"{NOT_YET}: {escape(o.missing)}"
         rows.append(
@@ -265,10 +272,11 @@ def runs_table(outcomes: Iterable[TestOutcome]) -> str:
     rows = []
     for o in outcomes:
         for r in o.runs:
-            size = r.summary.get("n_cells") or r.summary.get("n_shells") or "—"
+            n = r.summary.get("n_cells") or r.summary.get("n_shells")
+            size = f"{n:,}" if isinstance(n, int) else "—"
             rows.append(
                 f"<tr><td class='label'>{o.test.name}: {escape(r.label)}</td>"
-                f"<td>{size:,}</td><td>{float(r.summary['wall_seconds']):.1f}</td>"
+                f"<td>{size}</td><td>{float(r.summary['wall_seconds']):.1f}</td>"
                 f"<td>{r.seconds:.1f}{' (reused)' if r.reused else ''}</td>"
                 f"<td class='label'><code>{escape(r.folder.as_posix())}</code></td></tr>"
             )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -12,11 +13,13 @@ from batball.report.reproduce import (
     REPRODUCTION_TESTS,
     MeshSizes,
     ReproduceOptions,
+    calibration_options,
+    calibration_values,
     reproduce,
     run_compression,
 )
 from batball.report.seed_comparison import comparison_tables
-from batball.specs import load_seed_tables
+from batball.specs import load_ball_spec, load_seed_tables
 
 TINY = MeshSizes(ball_divisions=2, bat_circumferential=8, bat_axial_size=0.0254)
 
@@ -31,7 +34,7 @@ def test_every_table_is_filled_by_a_registered_test_and_back() -> None:
 
 
 def test_tests_not_built_yet_have_a_reason() -> None:
-    for name in ("barrel", "calibrate", "bbs"):
+    for name in ("barrel", "bbs"):
         assert REPRODUCTION_TESTS[name].run is None
         assert REPRODUCTION_TESTS[name].missing
 
@@ -67,3 +70,37 @@ def test_compression_without_its_module_is_not_yet_available(
     assert not outcome.available
     assert "compression" in outcome.missing
     assert run_compression is REPRODUCTION_TESTS["compression"].run
+
+
+def test_calibration_without_the_option_is_skipped_saying_how_to_add_it(tmp_path: Path) -> None:
+    options = dataclasses.replace(quiet_options(tmp_path), calibrate=False)
+    result = reproduce(options, tests={"calibrate": REPRODUCTION_TESTS["calibrate"]})
+    (outcome,) = result.outcomes
+    assert outcome.skipped and not outcome.available and not outcome.runs
+    assert "--calibrate" in outcome.missing
+    assert not any(key.startswith(("material/", "calibrated/")) for key in result.values)
+    page = (tmp_path / "report" / "index.html").read_text()
+    assert page.count(">skipped<") == 2 * 4 + 2 * 8  # Table 4 and both calibrated-ball tables
+    summary = json.loads((tmp_path / "report" / "summary.json").read_text())
+    assert summary["tests"]["calibrate"]["skipped"] is True
+
+
+def test_calibration_values_fill_table4_and_the_calibrated_ball_rows() -> None:
+    ball = load_ball_spec("type2")
+    rows = [{"quantity": q, "speed_mph": mph, "fitted": 1.5}
+            for q in ("ccor", "dynamic_stiffness", "peak_force", "contact_time")
+            for mph in (95.0, 110.0)]  # fmt: skip
+    rows.append({"quantity": "cor", "speed_mph": 60.0, "fitted": 0.5})  # no table row: left out
+    values = calibration_values(ball, {"targets": rows})
+    table_keys = {r.key for t in comparison_tables(load_seed_tables()) for r in t.rows}
+    assert set(values) <= table_keys
+    assert values["material/type2/beta"] == ball.material.values["beta"]
+    assert values["material/type2/g0"] == ball.material.values["g0"] / 6894.757293168361
+    assert len([k for k in values if k.startswith("calibrated/")]) == 8
+    assert values["calibrated/ds/type2/110mph"] == 1.5
+
+
+def test_quick_calibration_is_the_calibrate_quick_budget_on_the_quick_mesh() -> None:
+    quick = calibration_options(TINY)
+    assert (quick.coarse_divisions, quick.fine_divisions, quick.global_points) == (2, None, 6)
+    assert calibration_options(MeshSizes(12, 48, 0.00254)).fine_divisions == 12

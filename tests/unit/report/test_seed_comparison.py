@@ -25,7 +25,22 @@ def row(table_id: str, key: str) -> ComparisonRow:
 
 def test_tables_one_to_nine_and_compression_in_page_order() -> None:
     ids = [t.id for t in comparison_tables(load_seed_tables())]
-    assert ids == [f"table{n}" for n in range(1, 10)] + ["compression"]
+    calibrated = ["calibrated_type1", "calibrated_type2"]  # after Table 8
+    assert ids == [f"table{n}" for n in range(1, 9)] + calibrated + ["table9", "compression"]
+
+
+def test_calibrated_ball_rows_carry_the_seed_values_of_tables_5_to_8() -> None:
+    tables = tables_by_id()
+    impact = {r.key: r for n in (5, 6, 7, 8) for r in tables[f"table{n}"].rows}  # type: ignore[attr-defined]
+    for ball in ("type1", "type2"):
+        rows = tables[f"calibrated_{ball}"].rows  # type: ignore[attr-defined]
+        assert len(rows) == 8
+        for r in rows:
+            same = impact[r.key.removeprefix("calibrated/")]
+            assert ball in same.key
+            assert (r.experiment, r.seed_fe, r.unit, r.digits) == (
+                same.experiment, same.seed_fe, same.unit, same.digits,
+            )  # fmt: skip
 
 
 @pytest.mark.parametrize(
