@@ -73,7 +73,7 @@ def gap_matrix(nodes: np.ndarray, weights: np.ndarray, normals: np.ndarray,
 
     Args:
         nodes: (n_gaps, n_terms) node indices.
-        weights: (n_gaps, n_terms), dimensionless (e.g. +w_a, +w_b for the master, -1 for the slave).
+        weights: (n_gaps, n_terms), dimensionless (+w_a, +w_b for a master, -1 for a slave).
         normals: (n_gaps, 3) unit normals.
         n_points: nodes of the mesh (6 dofs each).
 
