@@ -7,9 +7,10 @@ penalty energy k g^2 / 2 with g = g0 + G u. With the active set A fixed the prob
 
 solved on the free degrees of freedom by a sparse LU factorisation (SuperLU, symmetric mode,
 no pivoting: the matrix is symmetric positive definite).
-The active set is then updated (closed where g < 0, open where g >= 0) and the solve repeated until
-it no longer changes (optionally with a small hysteresis): the frictionless penalty solution, which for a linear-elastic structure
-does not depend on the loading path. Bilateral springs are always active.
+The active set is then updated (closed where g < 0, open where g >= 0, optionally with a small
+hysteresis) and the solve repeated until it no longer changes: the frictionless penalty solution,
+which for a linear-elastic structure does not depend on the loading path. Bilateral springs are
+always active.
 """
 
 from __future__ import annotations
