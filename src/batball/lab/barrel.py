@@ -49,7 +49,7 @@ from batball.errors import SpecError
 from batball.lab.modal import bat_section
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL, make_bat_mesh
 from batball.mesh.shell import ShellMesh
-from batball.solvers.static_contact import solve_static_contact
+from batball.solvers.static_contact import FactorReuse, solve_static_contact
 from batball.specs.bat import BatSpec
 
 IN = 0.0254  # m
@@ -238,11 +238,12 @@ def compute_prestress(model: BarrelModel, *, ramp_steps: int = 1) -> Prestress:
     interference = model.spec.insert.interference if model.spec.insert else 0.0
     fixed = prestress_supports(model)
     areas = contact_areas(model)
-    active, pressures = None, []
+    active, pressures, reuse = None, [], FactorReuse()
     for step in range(1, ramp_steps + 1):
         gaps = model.interference.shifted((1.0 - step / ramp_steps) * interference)
         solution = solve_static_contact(model.stiffness, [gaps], fixed_dofs=fixed,
-                                        initial_active=active, where="interference pre-stress")
+                                        initial_active=active, where="interference pre-stress",
+                                        reuse=reuse)  # fmt: skip
         active = solution.active
         pressures.append(solution.forces[0].sum() / areas.sum())
     force = solution.forces[0]
@@ -318,6 +319,7 @@ class CompressionCurve:
             halves of the insert (seed Figure 13; nodes on the dividing plane count half to each),
             (n_levels,), N.
         iterations: linear solves used.
+        factorisations: of those, the ones that factorised (the others ran CG on a kept factor).
     """
 
     orientation_deg: float
@@ -326,6 +328,7 @@ class CompressionCurve:
     insert_top: np.ndarray
     insert_bottom: np.ndarray
     iterations: int
+    factorisations: int = 0
 
     def force_at(self, travel: float) -> float:
         """Force at a solved travel, N."""
@@ -358,6 +361,7 @@ def compress_barrel(model: BarrelModel, prestress: Prestress, options: BarrelTes
     travels = options.travels(curve=curve)
     force, top, bottom, iterations = [], [], [], 0
     insert_active, platen_active = prestress.active, [np.zeros(0, dtype=bool)] * 2
+    reuse = FactorReuse()  # the levels differ by a few gaps: CG on one factorisation
     for travel in travels:
         platens = platen_gaps(model, options, orientation_deg, travel)
         guess = [insert_active]
@@ -367,6 +371,7 @@ def compress_barrel(model: BarrelModel, prestress: Prestress, options: BarrelTes
         solution = solve_static_contact(
             model.stiffness, [model.interference, *platens, springs], fixed_dofs=fixed,
             initial_active=[*guess, np.ones(4, dtype=bool)], hysteresis=GAP_HYSTERESIS,
+            reuse=reuse,
             where=f"barrel compression at {orientation_deg:g} deg, {travel / IN:.3f} in",
         )  # fmt: skip
         insert_active, platen_active = solution.active[0], solution.active[1:3]
@@ -376,7 +381,7 @@ def compress_barrel(model: BarrelModel, prestress: Prestress, options: BarrelTes
         top.append(split[0])
         bottom.append(split[1])
     return CompressionCurve(orientation_deg, travels, np.array(force), np.array(top),
-                            np.array(bottom), iterations)  # fmt: skip
+                            np.array(bottom), iterations, reuse.factorisations)  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -33,9 +33,12 @@ from batball.lab.barrel import (
     BarrelResult,
     BarrelTestOptions,
     Prestress,
+    along,
     build_barrel_model,
     compute_prestress,
     contact_areas,
+    halves,
+    load_axes,
     membrane_stress,
     run_barrel_compression,
     thin_ring_interference_pressure,
@@ -118,6 +121,8 @@ def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any
     barrel_cells = np.concatenate([model.mesh.cell_sets[p.name] for p in model.spec.parts
                                    if p.name.startswith("barrel")])  # fmt: skip
     curve = result.curves[0]
+    cosine = along(model.interference, load_axes(curve.orientation_deg)[0], model.mesh.n_points)
+    fit_split = halves(prestress.contact_force, cosine)
     end = options.preload_travel + options.final_travel
     levels = [np.argmin(np.abs(curve.travel - t)) for t in (options.preload_travel, end)]
     return {
@@ -131,25 +136,31 @@ def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any
         "seed_table2": SEED_TABLE2,
         "interference_in": model.spec.insert.interference / IN if model.spec.insert else 0.0,
         "interference_pressure_psi": interference_pressure(model, prestress) / PSI,
-        "interference_pressure_range_psi": [float(prestress.contact_pressure.min() / PSI),
-                                            float(prestress.contact_pressure.max() / PSI)],
+        "interference_pressure_range_psi": [
+            float(prestress.contact_pressure.min() / PSI),
+            float(prestress.contact_pressure.max() / PSI),
+        ],
         "interference_pressure_thin_ring_psi": thin_ring_interference_pressure(model.spec) / PSI,
         "prestress_hoop_stress_median_psi": {
             "barrel": float(np.median(stress[barrel_cells])),
             "insert": float(np.median(stress[model.mesh.cell_sets["insert"]])),
         },
         "insert_contact_lbf": {
-            "prestress": {"top": float(prestress.contact_force.sum() / 2 / LBF),
-                          "bottom": float(prestress.contact_force.sum() / 2 / LBF)},
-            "preload": {"top": curve.insert_top[levels[0]] / LBF,
-                        "bottom": curve.insert_bottom[levels[0]] / LBF},
-            "final": {"top": curve.insert_top[levels[1]] / LBF,
-                      "bottom": curve.insert_bottom[levels[1]] / LBF},
+            "prestress": dict(zip(("top", "bottom"), np.array(fit_split) / LBF, strict=True)),
+            "preload": {
+                "top": curve.insert_top[levels[0]] / LBF,
+                "bottom": curve.insert_bottom[levels[0]] / LBF,
+            },
+            "final": {
+                "top": curve.insert_top[levels[1]] / LBF,
+                "bottom": curve.insert_bottom[levels[1]] / LBF,
+            },
             "orientation_deg": curve.orientation_deg,
         },  # fmt: skip
         "platen_diameter_in": options.platen_diameter / IN,
         "platen_from_cap_in": options.distance_from_cap / IN,
         "linear_solves": int(sum(c.iterations for c in result.curves)),
+        "factorisations": int(sum(c.factorisations for c in result.curves)),
         "n_shells": model.mesh.n_cells,
         "n_points": model.mesh.n_points,
         "wall_seconds": wall_seconds,

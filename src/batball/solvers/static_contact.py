@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -58,19 +59,90 @@ def penalty_system(
     return sp.csr_matrix(matrix), rhs
 
 
-def solve_free(matrix: sp.csr_matrix, rhs: np.ndarray, free: np.ndarray, where: str) -> np.ndarray:
-    """Solve matrix u = rhs with u = 0 on the dofs not in ``free``; SimulationError if singular."""
-    u = np.zeros(rhs.size)
-    reduced = matrix[free][:, free].tocsc()
+@dataclass
+class FactorReuse:
+    """A factorisation the caller keeps between solves (nothing is cached behind its back).
+
+    A later system that differs from the factorised one by at most ``max_changed`` gaps changing
+    state (plus small changes of the gaps' normals, as a moved platen gives) is a low-rank update
+    of it: conjugate gradients preconditioned by the old factor solve it in about
+    ``max_changed`` iterations, each costing one pair of triangular solves instead of a new
+    factorisation. If CG does not reach ``rtol`` the system is factorised afresh.
+
+    Attributes:
+        max_changed: most gaps whose state may differ from the factorised system's.
+        rtol: CG relative residual.
+        factor: the SuperLU factor of the last factorised reduced matrix.
+        active: that system's closed gaps.
+        free: that system's free dofs.
+        factorisations: factorisations done so far.
+        cg_solves: systems solved by CG so far.
+    """
+
+    max_changed: int = 40
+    rtol: float = 1e-11
+    factor: Any = None
+    active: list[np.ndarray] | None = None
+    free: np.ndarray | None = None
+    factorisations: int = 0
+    cg_solves: int = 0
+
+    def changed(self, active: Sequence[np.ndarray], free: np.ndarray) -> int | None:
+        """Gaps whose state differs from the factorised system's; None if not comparable."""
+        if self.factor is None or self.active is None or self.free is None:
+            return None
+        if len(self.active) != len(active) or not np.array_equal(self.free, free):
+            return None
+        if any(a.shape != b.shape for a, b in zip(self.active, active, strict=True)):
+            return None
+        return sum(int(np.sum(a != b)) for a, b in zip(self.active, active, strict=True))
+
+
+def factorise(reduced: sp.csc_matrix, where: str) -> Any:
+    """SuperLU of a symmetric positive definite matrix; SimulationError if singular."""
     try:
         # The system is symmetric positive definite: no pivoting (with SuperLU's default partial
         # pivoting the penalty rows made a 2,000-node bat take minutes instead of a second).
-        factor = spla.splu(reduced, permc_spec="MMD_AT_PLUS_A",
-                           options={"SymmetricMode": True, "DiagPivotThresh": 0.0})  # fmt: skip
+        return spla.splu(reduced, permc_spec="MMD_AT_PLUS_A",
+                         options={"SymmetricMode": True, "DiagPivotThresh": 0.0})  # fmt: skip
     except RuntimeError as exc:
         raise SimulationError(f"{where}: the stiffness with the closed contacts is singular "
                               f"({exc}); a rigid-body motion is unrestrained") from exc  # fmt: skip
-    u[free] = factor.solve(rhs[free])
+
+
+def solve_by_reuse(reduced: sp.csc_matrix, rhs: np.ndarray, reuse: FactorReuse,
+                   changed: int) -> np.ndarray | None:  # fmt: skip
+    """CG preconditioned by the kept factor; None when it does not converge."""
+    preconditioner = spla.LinearOperator(reduced.shape, matvec=reuse.factor.solve)
+    x, info = spla.cg(reduced, rhs, rtol=reuse.rtol, atol=0.0, M=preconditioner,
+                      maxiter=2 * changed + 20)  # fmt: skip
+    if info != 0:
+        return None
+    reuse.cg_solves += 1
+    return np.asarray(x)
+
+
+def solve_free(matrix: sp.csr_matrix, rhs: np.ndarray, free: np.ndarray, where: str, *,
+               active: Sequence[np.ndarray] | None = None,
+               reuse: FactorReuse | None = None) -> np.ndarray:  # fmt: skip
+    """Solve matrix u = rhs with u = 0 on the dofs not in ``free``; SimulationError if singular.
+
+    With ``reuse`` (and the ``active`` gaps that made ``matrix``) a kept factor is tried first.
+    """
+    u = np.zeros(rhs.size)
+    reduced = matrix[free][:, free].tocsc()
+    solved = None
+    if reuse is not None and active is not None:
+        changed = reuse.changed(active, free)
+        if changed is not None and changed <= reuse.max_changed:
+            solved = solve_by_reuse(reduced, rhs[free], reuse, changed)
+    if solved is None:
+        factor = factorise(reduced, where)
+        solved = factor.solve(rhs[free])
+        if reuse is not None and active is not None:
+            reuse.factor, reuse.active, reuse.free = factor, [a.copy() for a in active], free
+            reuse.factorisations += 1
+    u[free] = solved
     if not np.all(np.isfinite(u)):
         raise SimulationError(f"{where}: the linear solve returned non-finite displacements")
     return u
@@ -87,6 +159,7 @@ def solve_static_contact(
     hysteresis: float = 0.0,
     max_iterations: int = 30,
     where: str = "static contact",
+    reuse: FactorReuse | None = None,
 ) -> StaticContactSolution:
     """Frictionless penalty contact statics by active-set iteration (module docs).
 
@@ -103,6 +176,7 @@ def solve_static_contact(
             off for ever; the error it allows is a force of at most k * hysteresis per gap.
         max_iterations: linear solves allowed before giving up.
         where: names the analysis in error messages.
+        reuse: a factorisation kept across calls (e.g. the load levels of one test).
 
     Raises:
         SimulationError: singular system, or an active set that does not settle.
@@ -116,7 +190,7 @@ def solve_static_contact(
               for a, gaps in zip(initial_active, gap_sets, strict=True)]  # fmt: skip
     for iteration in range(1, max_iterations + 1):
         matrix, rhs = penalty_system(stiffness, gap_sets, active)
-        u = solve_free(matrix, rhs + f, free, where)
+        u = solve_free(matrix, rhs + f, free, where, active=active, reuse=reuse)
         gaps = [g.gaps(u) for g in gap_sets]
         updated = [np.where(a, g < hysteresis, g < -hysteresis) | s.bilateral
                    for g, a, s in zip(gaps, active, gap_sets, strict=True)]  # fmt: skip
