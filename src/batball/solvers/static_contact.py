@@ -115,7 +115,7 @@ def solve_by_reuse(reduced: sp.csc_matrix, rhs: np.ndarray, reuse: FactorReuse,
     """CG preconditioned by the kept factor; None when it does not converge."""
     preconditioner = spla.LinearOperator(reduced.shape, matvec=reuse.factor.solve)
     x, info = spla.cg(reduced, rhs, rtol=reuse.rtol, atol=0.0, M=preconditioner,
-                      maxiter=2 * changed + 20)  # fmt: skip
+                      maxiter=2 * changed + 10)  # fmt: skip
     if info != 0:
         return None
     reuse.cg_solves += 1
