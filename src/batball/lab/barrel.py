@@ -258,9 +258,10 @@ def load_axes(orientation_deg: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def platen_gaps(model: BarrelModel, options: BarrelTestOptions, orientation_deg: float,
-                travel: float) -> list[PenaltyGaps]:  # fmt: skip
+                travel: float, prestress_u: np.ndarray) -> list[PenaltyGaps]:  # fmt: skip
     """Top (moved ``travel`` towards the bat) and bottom (fixed) platen gaps; at zero travel each
-    platen just touches the outer surface (the gauges are zeroed at first contact)."""
+    platen just touches the pre-stressed outer surface (displacements ``prestress_u``, the fit
+    swells the barrel by about 0.0005 in): the gauges are zeroed at first contact."""
     load, sideways = load_axes(orientation_deg)
     radius = 0.5 * options.platen_diameter
     centre_x = model.spec.length - options.distance_from_cap
@@ -281,7 +282,8 @@ def platen_gaps(model: BarrelModel, options: BarrelTestOptions, orientation_deg:
         # Zero travel = first touch: no ring need lie under the platen's apex. The normals stay
         # those at first touch (small displacements), so a level's matrix depends on its closed
         # gaps only and a kept factorisation serves the next level exactly.
-        gap_sets.append(replace(at_zero, initial=moved.initial - at_zero.initial.min()))
+        first_touch = at_zero.gaps(prestress_u).min()
+        gap_sets.append(replace(at_zero, initial=moved.initial - first_touch))
     return gap_sets
 
 
@@ -365,7 +367,7 @@ def compress_barrel(model: BarrelModel, prestress: Prestress, options: BarrelTes
     insert_active, platen_active = prestress.active, [np.zeros(0, dtype=bool)] * 2
     reuse = FactorReuse()  # the levels differ by a few gaps: CG on one factorisation
     for travel in travels:
-        platens = platen_gaps(model, options, orientation_deg, travel)
+        platens = platen_gaps(model, options, orientation_deg, travel, prestress.u)
         guess = [insert_active]
         for gaps, before in zip(platens, platen_active, strict=True):
             closed = gaps.initial <= 1e-9 * IN
