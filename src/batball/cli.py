@@ -69,6 +69,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_modal_parser(sub)
     add_compression_parser(sub)
     add_calibrate_parser(sub)
+    add_barrel_parser(sub)
     return parser
 
 
@@ -492,6 +493,53 @@ def describe_reproduction(result: Any) -> str:
         f"  not yet available: {missing}",
         *skipped,
         f"  {result.seconds:.1f} s",
+    ])  # fmt: skip
+
+
+# --- batball barrel (issue 8) -------------------------------------------------------------------
+
+
+def add_barrel_parser(sub: Any) -> None:
+    """``batball barrel``: insert pre-stress and barrel compression of a bat (seed Table 2)."""
+    help_text = "interference-fit pre-stress and barrel compression of a bat (seed Table 2)"
+    p = sub.add_parser("barrel", help=help_text, description=help_text)
+    add_bat_mesh_options(p)
+    p.add_argument("--ramp-steps", type=int, default=1,
+                   help="static steps removing the insert's overlap (default 1: the fit is "
+                   "linear and frictionless, so the end state does not depend on the path)")
+    add_store_options(p)
+    p.set_defaults(handler=run_barrel_command)
+
+
+def run_barrel_command(args: argparse.Namespace) -> int:
+    """``batball barrel`` (the pivot option is accepted and unused)."""
+    from batball.lab.barrel_run import run_barrel_test
+    from batball.specs import load_bat_spec
+
+    if args.ramp_steps < 1:
+        raise SpecError("ramp-steps", args.ramp_steps, "an integer >= 1")
+    spec = load_bat_spec(args.bat)
+    options = bat_mesh_options(args)
+    summary, _ = run_barrel_test(
+        spec, runs_dir=args.runs_dir, reuse=not args.no_reuse, ramp_steps=args.ramp_steps,
+        circumferential=options["circumferential"], axial_size=options["axial_size"],
+    )  # fmt: skip
+    print(json.dumps(summary, indent=2) if args.json else describe_barrel(summary))
+    return 0
+
+
+def describe_barrel(s: dict[str, Any]) -> str:
+    """A short human report of a barrel summary beside the seed's Table 2."""
+    exp, seed = s["seed_table2"]["experiment"], s["seed_table2"]["seed_lsdyna"]
+    return "\n".join([
+        f"barrel compression of {s['bat']} (mean of {len(s['orientations_deg'])} orientations)",
+        f"  preload    {s['preload_lbf']:7.1f} lbf  (experiment {exp['preload_lbf']:.0f}, "
+        f"seed FE {seed['preload_lbf']:.0f})",
+        f"  final load {s['final_load_lbf']:7.1f} lbf  (experiment {exp['final_load_lbf']:.0f}, "
+        f"seed FE {seed['final_load_lbf']:.0f})",
+        f"  interference pressure {s['interference_pressure_psi']:.1f} psi (thin rings "
+        f"{s['interference_pressure_thin_ring_psi']:.1f} psi)",
+        f"  {s['n_shells']} shells, {s['wall_seconds']:.1f} s, results in {s['run_folder']}",
     ])  # fmt: skip
 
 

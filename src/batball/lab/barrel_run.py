@@ -1,0 +1,269 @@
+"""Run the barrel compression test (seed Table 2) into the results store, summarised with units.
+
+Two folders, each keyed by the hash of its inputs:
+
+* ``runs/prestress-<hash>/``: the interference-fit state of a bat and mesh, ``prestress.npz``
+  (displacements, insert contact forces and pressures, closed gaps), like LS-DYNA's ``drdisp``
+  file: computed once, then read as the initial state of every later test of that bat.
+* ``runs/barrel-<hash>/``: ``summary.json`` (preload and final load beside Table 2, the
+  interference pressure, the insert-barrel contact forces split top and bottom),
+  ``force_travel.csv`` and ``force_travel.png`` (the force-displacement curve) and
+  ``prestress.png`` (the fringe of the pre-stress in the barrel and insert, seed Figure 10).
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from batball import __version__
+from batball.io.store import (
+    atomic_path,
+    load_cached_summary,
+    run_folder,
+    write_csv_atomic,
+    write_summary,
+)
+from batball.lab.barrel import (
+    IN,
+    BarrelModel,
+    BarrelResult,
+    BarrelTestOptions,
+    Prestress,
+    along,
+    build_barrel_model,
+    compute_prestress,
+    contact_areas,
+    halves,
+    load_axes,
+    membrane_stress,
+    run_barrel_compression,
+    thin_ring_interference_pressure,
+    von_mises,
+)
+from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
+from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
+
+LBF = 4.4482216152605  # N
+PSI = 6894.757293168  # Pa
+#: Seed Table 2 (lbf): preload (first 0.02 in) and final load (the further 0.05 in).
+SEED_TABLE2 = {
+    "experiment": {"preload_lbf": 186.0, "final_load_lbf": 368.0},
+    "seed_lsdyna": {"preload_lbf": 155.0, "final_load_lbf": 386.0},
+}
+PRESTRESS_FILE = "prestress.npz"
+
+
+def prestress_inputs(spec: BatSpec, circumferential: int, axial_size: float,
+                     options: BarrelTestOptions, ramp_steps: int) -> dict[str, Any]:  # fmt: skip
+    """What the pre-stressed state depends on (its store key)."""
+    return {
+        "bat": bat_spec_to_toml_dict(spec),
+        "mesh": {"circumferential": circumferential, "axial_size_m": axial_size},
+        "penalty_factor": options.penalty_factor,
+        "ramp_steps": ramp_steps,
+        "batball": __version__,
+    }
+
+
+def save_prestress(folder: Path, prestress: Prestress, summary: dict[str, Any]) -> None:
+    """Write ``prestress.npz`` then the folder's summary (atomic, summary last)."""
+    with atomic_path(folder / PRESTRESS_FILE) as tmp, open(tmp, "wb") as stream:
+        np.savez(stream, u=prestress.u, contact_force=prestress.contact_force,
+                 contact_pressure=prestress.contact_pressure, active=prestress.active,
+                 ramp_pressure=prestress.ramp_pressure)  # fmt: skip
+    write_summary(folder, summary)
+
+
+def load_prestress(folder: Path, model: BarrelModel) -> Prestress | None:
+    """The stored state if the folder is complete and its arrays fit ``model``, else None."""
+    if load_cached_summary(folder) is None:
+        return None
+    try:
+        with np.load(folder / PRESTRESS_FILE) as data:
+            stored = Prestress(data["u"], data["contact_force"], data["contact_pressure"],
+                               data["active"], data["ramp_pressure"])  # fmt: skip
+    except (OSError, KeyError, ValueError):
+        return None
+    if stored.u.size != 6 * model.mesh.n_points or stored.active.size != model.interference.n_gaps:
+        return None
+    return stored
+
+
+def obtain_prestress(model: BarrelModel, folder: Path, *, ramp_steps: int,
+                     reuse: bool) -> tuple[Prestress, bool]:  # fmt: skip
+    """The stored pre-stress of this bat and mesh, or a new one stored; and whether reused."""
+    stored = load_prestress(folder, model) if reuse else None
+    if stored is not None:
+        return stored, True
+    start = time.perf_counter()
+    prestress = compute_prestress(model, ramp_steps=ramp_steps)
+    summary = {"test": "prestress", "bat": model.spec.name,
+               "mean_pressure_psi": interference_pressure(model, prestress) / PSI,
+               "wall_seconds": time.perf_counter() - start}  # fmt: skip
+    save_prestress(folder, prestress, summary)
+    return prestress, False
+
+
+def interference_pressure(model: BarrelModel, prestress: Prestress) -> float:
+    """Mean contact pressure over the insert's outer surface, Pa."""
+    return float(prestress.contact_force.sum() / contact_areas(model).sum())
+
+
+def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any]:
+    """The summary a person reads: each number's unit is in its key."""
+    model, options, prestress = result.model, result.options, result.prestress
+    preloads, finals = result.preloads() / LBF, result.final_loads() / LBF
+    stress = membrane_stress(model, prestress.u)[:, 1] / PSI
+    barrel_cells = np.concatenate([model.mesh.cell_sets[p.name] for p in model.spec.parts
+                                   if p.name.startswith("barrel")])  # fmt: skip
+    curve = result.curves[0]
+    cosine = along(model.interference, load_axes(curve.orientation_deg)[0], model.mesh.n_points)
+    fit_split = halves(prestress.contact_force, cosine)
+    end = options.preload_travel + options.final_travel
+    levels = [np.argmin(np.abs(curve.travel - t)) for t in (options.preload_travel, end)]
+    return {
+        "test": "barrel",
+        "bat": model.spec.name,
+        "preload_lbf": float(preloads.mean()),
+        "final_load_lbf": float(finals.mean()),
+        "orientations_deg": list(options.orientations_deg),
+        "preload_by_orientation_lbf": preloads.tolist(),
+        "final_load_by_orientation_lbf": finals.tolist(),
+        "seed_table2": SEED_TABLE2,
+        "interference_in": model.spec.insert.interference / IN if model.spec.insert else 0.0,
+        "interference_pressure_psi": interference_pressure(model, prestress) / PSI,
+        "interference_pressure_range_psi": [
+            float(prestress.contact_pressure.min() / PSI),
+            float(prestress.contact_pressure.max() / PSI),
+        ],
+        "interference_pressure_thin_ring_psi": thin_ring_interference_pressure(model.spec) / PSI,
+        "prestress_hoop_stress_median_psi": {
+            "barrel": float(np.median(stress[barrel_cells])),
+            "insert": float(np.median(stress[model.mesh.cell_sets["insert"]])),
+        },
+        "insert_contact_lbf": {
+            "prestress": dict(zip(("top", "bottom"), np.array(fit_split) / LBF, strict=True)),
+            "preload": {
+                "top": curve.insert_top[levels[0]] / LBF,
+                "bottom": curve.insert_bottom[levels[0]] / LBF,
+            },
+            "final": {
+                "top": curve.insert_top[levels[1]] / LBF,
+                "bottom": curve.insert_bottom[levels[1]] / LBF,
+            },
+            "orientation_deg": curve.orientation_deg,
+        },  # fmt: skip
+        "platen_diameter_in": options.platen_diameter / IN,
+        "platen_from_cap_in": options.distance_from_cap / IN,
+        "linear_solves": int(sum(c.iterations for c in result.curves)),
+        "factorisations": int(sum(c.factorisations for c in result.curves)),
+        "n_shells": model.mesh.n_cells,
+        "n_points": model.mesh.n_points,
+        "wall_seconds": wall_seconds,
+    }
+
+
+def write_curve(folder: Path, result: BarrelResult) -> None:
+    """``force_travel.csv`` and ``.png``: the first orientation's force-travel curve."""
+    curve = result.curves[0]
+    at_fit = result.prestress.contact_force.sum() / 2 / LBF  # zero travel: the fit alone
+    columns = {"travel_in": np.r_[0.0, curve.travel / IN],
+               "force_lbf": np.r_[0.0, curve.force / LBF],
+               "insert_top_lbf": np.r_[at_fit, curve.insert_top / LBF],
+               "insert_bottom_lbf": np.r_[at_fit, curve.insert_bottom / LBF]}  # fmt: skip
+    write_csv_atomic(folder / "force_travel.csv", columns)
+    plot_curve(folder / "force_travel.png", columns, result.options)
+
+
+def plot_curve(path: Path, columns: dict[str, np.ndarray], options: BarrelTestOptions) -> None:
+    """Force against platen travel with the seed's Table 2 points (F(0.02), F(0.07))."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(columns["travel_in"], columns["force_lbf"], "o-", label="batball")
+    travels = [options.preload_travel / IN, (options.preload_travel + options.final_travel) / IN]
+    for key, marker in (("experiment", "s"), ("seed_lsdyna", "^")):
+        row = SEED_TABLE2[key]
+        forces = [row["preload_lbf"], row["preload_lbf"] + row["final_load_lbf"]]
+        ax.plot(travels, forces, marker, label=f"seed {key.replace('_', ' ')}")
+    ax.set_xlabel("platen travel (in)")
+    ax.set_ylabel("platen force (lbf)")
+    ax.set_title("Barrel compression, 6 in from the end cap")
+    ax.legend()
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+
+
+def plot_prestress(path: Path, model: BarrelModel, prestress: Prestress) -> None:
+    """Von Mises of the mean (membrane) stress, psi, on the unrolled barrel and insert."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+
+    stress = von_mises(membrane_stress(model, prestress.u)) / PSI
+    assert model.spec.insert is not None
+    fig, axes = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    outer = np.setdiff1d(np.arange(model.mesh.n_cells), model.mesh.cell_sets["insert"])
+    for ax, cells, title in ((axes[0], outer, "outer wall"),
+                             (axes[1], model.mesh.cell_sets["insert"], "insert")):  # fmt: skip
+        corners = model.mesh.points[model.mesh.cells[cells]]
+        phi = np.degrees(np.arctan2(corners[..., 2], corners[..., 1]))
+        centre = phi.mean(axis=1, keepdims=True)
+        phi = centre + (phi - centre + 180.0) % 360.0 - 180.0  # unwrap across the seam
+        keep = corners[:, :, 0].mean(axis=1) > model.spec.insert.start - 2 * IN
+        polygons = np.stack([corners[keep, :, 0] / IN, phi[keep]], axis=-1)
+        collection = PolyCollection(list(polygons), array=stress[cells][keep], cmap="jet")
+        ax.add_collection(collection)
+        ax.autoscale()
+        ax.set_ylabel("angle (deg)")
+        ax.set_title(f"{title}: von Mises of the mean stress after the fit (psi)")
+        fig.colorbar(collection, ax=ax)
+    axes[1].set_xlabel("x from the knob end (in)")
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+
+
+def run_barrel_test(
+    spec: BatSpec,
+    *,
+    runs_dir: Path,
+    circumferential: int = DEFAULT_CIRCUMFERENTIAL,
+    axial_size: float = DEFAULT_AXIAL_SIZE,
+    options: BarrelTestOptions | None = None,
+    ramp_steps: int = 1,
+    reuse: bool = True,
+) -> tuple[dict[str, Any], Path]:
+    """Pre-stress (or reuse it), compress at every orientation; the summary and the run folder."""
+    options = BarrelTestOptions() if options is None else options
+    base = prestress_inputs(spec, circumferential, axial_size, options, ramp_steps)
+    folder = run_folder(runs_dir, "barrel", {**base, "protocol": repr(options)})
+    cached = load_cached_summary(folder) if reuse else None
+    if cached is not None:
+        return cached, folder
+    start = time.perf_counter()
+    model = build_barrel_model(spec, circumferential=circumferential, axial_size=axial_size,
+                               penalty_factor=options.penalty_factor)  # fmt: skip
+    prestress_folder = run_folder(runs_dir, "prestress", base)
+    prestress, reused = obtain_prestress(model, prestress_folder, ramp_steps=ramp_steps,
+                                         reuse=reuse)  # fmt: skip
+    result = run_barrel_compression(model, prestress, options)
+    summary = summarise_barrel(result, time.perf_counter() - start)
+    summary.update(run_folder=folder.as_posix(), prestress_folder=prestress_folder.as_posix(),
+                   prestress_reused=reused)  # fmt: skip
+    write_curve(folder, result)
+    plot_prestress(folder / "prestress.png", model, prestress)
+    write_summary(folder, summary)
+    return summary, folder

@@ -1,0 +1,129 @@
+"""The double-wall bat's interference fit and barrel compression on a coarse mesh (16 x 0.4 in).
+
+Expectations are closed forms (physics.md section 6.7 thin rings, the membrane hoop force
+N = p R_c), the linearity of a frictionless elastic fit, and symmetry; the store and the CLI
+are checked for their files and reuse.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from batball.cli import main
+from batball.errors import SpecError
+from batball.lab.barrel import (
+    IN,
+    BarrelModel,
+    BarrelTestOptions,
+    Prestress,
+    build_barrel_model,
+    compute_prestress,
+    contact_areas,
+    membrane_stress,
+    run_barrel_compression,
+    thin_ring_interference_pressure,
+)
+from batball.specs import load_bat_spec
+
+COARSE = {"circumferential": 16, "axial_size": 0.4 * IN}
+
+
+@pytest.fixture(scope="module")
+def model() -> BarrelModel:
+    return build_barrel_model(load_bat_spec("default"), **COARSE)
+
+
+@pytest.fixture(scope="module")
+def prestress(model: BarrelModel) -> Prestress:
+    return compute_prestress(model, ramp_steps=2)
+
+
+def test_mean_fit_pressure_matches_the_thin_ring_formula(model, prestress) -> None:
+    """Within 3 %: the formula's R^2 against the membrane R R_c (about +-4 % for each wall,
+    largely cancelling) and the barrel's restraint beyond the insert's ends (sqrt(R t) = 0.3 in
+    against a 10-in insert)."""
+    mean = prestress.contact_force.sum() / contact_areas(model).sum()
+    assert mean == pytest.approx(thin_ring_interference_pressure(model.spec), rel=0.03)
+    assert prestress.active.all()
+
+
+def test_the_ramped_overlap_loads_linearly_and_ends_where_one_step_does(model, prestress) -> None:
+    """A frictionless elastic fit is linear in the overlap and path-independent."""
+    assert prestress.ramp_pressure[0] == pytest.approx(0.5 * prestress.ramp_pressure[1], rel=1e-9)
+    one_step = compute_prestress(model, ramp_steps=1)
+    np.testing.assert_allclose(one_step.contact_force, prestress.contact_force, rtol=1e-8)
+
+
+def test_hoop_stresses_follow_the_membrane_balance(model, prestress) -> None:
+    """Barrel in tension, insert in compression, with N = p R_c carried by each wall: the median
+    mean hoop stress under the insert's middle within 5 % of p R_c / t (hoop N of a thin ring)."""
+    spec = model.spec
+    assert spec.insert is not None
+    pressure = prestress.contact_force.sum() / contact_areas(model).sum()
+    bore = spec.insert_outer_radius() - spec.insert.interference
+    stress = membrane_stress(model, prestress.u)[:, 1]
+    centre_x = model.mesh.points[model.mesh.cells, 0].mean(axis=1)
+    middle = np.abs(centre_x - 0.5 * (spec.insert.start + spec.insert.end)) < 2 * IN
+    for name, sign in (("barrel-2", 1.0), ("insert", -1.0)):
+        cells = np.intersect1d(model.mesh.cell_sets[name] if name != "barrel-2" else
+                               np.concatenate([model.mesh.cell_sets["barrel-2"],
+                                               model.mesh.cell_sets["barrel-3"]]),
+                               np.flatnonzero(middle))  # fmt: skip
+        layup = spec.insert.layup if name == "insert" else spec.part(name).layup
+        expected = sign * pressure * bore / spec.laminate(layup).thickness
+        assert np.median(stress[cells]) == pytest.approx(expected, rel=0.05)
+
+
+def test_compression_is_the_same_at_every_orientation_and_balanced(model, prestress) -> None:
+    """The reconstructed bat is axisymmetric and the mesh meets the platens at nodes: preload
+    and final load agree across 0, 90, 45, -45 deg (1e-6); the insert's top and bottom halves
+    carry equal contact force (the test is symmetric about the bat's axis); force grows."""
+    result = run_barrel_compression(model, prestress, BarrelTestOptions())
+    np.testing.assert_allclose(result.preloads(), result.preloads()[0], rtol=1e-6)
+    np.testing.assert_allclose(result.final_loads(), result.final_loads()[0], rtol=1e-6)
+    curve = result.curves[0]
+    np.testing.assert_allclose(curve.insert_top, curve.insert_bottom, rtol=1e-6)
+    assert np.all(np.diff(curve.force) > 0) and result.preloads()[0] > 0
+    assert curve.insert_top[-1] > prestress.contact_force.sum() / 2  # squeezed harder
+
+
+def test_bad_bats_and_meshes_are_refused() -> None:
+    spec = load_bat_spec("default")
+    with pytest.raises(SpecError, match="circumferential"):
+        build_barrel_model(spec, circumferential=12, axial_size=0.4 * IN)
+    from dataclasses import replace
+
+    with pytest.raises(SpecError, match="insert"):
+        build_barrel_model(replace(spec, insert=None), **COARSE)
+
+
+def test_cli_prints_table2_numbers_writes_the_folder_and_reuses_the_prestress(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    args = ["barrel", "--bat", "default", "--json", "--runs-dir", str(tmp_path),
+            "--circumferential", "16", "--axial-size", "0.4 in"]  # fmt: skip
+    assert main(args) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary.keys() >= {"preload_lbf", "final_load_lbf", "interference_pressure_psi",
+                              "wall_seconds"}  # fmt: skip
+    assert summary["prestress_reused"] is False
+    folder = Path(summary["run_folder"])
+    for name in ("summary.json", "force_travel.csv", "force_travel.png", "prestress.png"):
+        assert (folder / name).is_file()
+    assert (Path(summary["prestress_folder"]) / "prestress.npz").is_file()
+    # Without the compression run, the next one starts from the stored pre-stress (drdisp).
+    (folder / "summary.json").unlink()
+    assert main(args) == 0
+    again = json.loads(capsys.readouterr().out)
+    assert again["prestress_reused"] is True
+    assert again["preload_lbf"] == pytest.approx(summary["preload_lbf"], rel=1e-9)
+
+
+def test_cli_refuses_a_zero_ramp(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    args = ["barrel", "--ramp-steps", "0", "--runs-dir", str(tmp_path)]
+    assert main(args) == 2
+    assert "ramp-steps" in capsys.readouterr().err
