@@ -67,12 +67,10 @@ def assemble_and_update(
     velocities: np.ndarray,
     sums: np.ndarray,
 ) -> None:
-    """Gather the element forces to the nodes and take one central-difference step, in place.
-
-    With mass-proportional damping c (dynamic relaxation; 0 for an undamped run),
+    """Gather the element forces to the nodes and take one central-difference step, in place:
     m (v^(n+1/2) - v^(n-1/2)) / h = f^n - c m (v^(n+1/2) + v^(n-1/2)) / 2, h = (dt_old + dt_new)/2,
-    then x^(n+1) = x^n + dt_new v^(n+1/2). The gather reads every node's element slots through the
-    CSR map of :func:`node_cell_map`, so the nodes run in parallel without atomics.
+    x^(n+1) = x^n + dt_new v^(n+1/2), with mass-proportional damping c (0 = undamped). The gather
+    reads each node's slots through :func:`node_cell_map`'s CSR map: parallel without atomics.
 
     Args:
         cell_forces: (n_cells, 24) element forces [N], node-major.
@@ -145,6 +143,58 @@ def lumped_masses(cells: np.ndarray, cell_mass: np.ndarray, n_points: int) -> np
     return mass
 
 
+@nb.njit(inline="always")
+def next_step(
+    cell_dt: np.ndarray, clock: np.ndarray, counters: np.ndarray, limits: np.ndarray
+) -> float:
+    """TSSFAC times the smallest element step [s], or a FAIL_* code (negative) when an element
+    has no positive volume or the step fell below MIN_STEP_RATIO of the first one."""
+    smallest = 0
+    for e in range(cell_dt.shape[0]):
+        if not cell_dt[e] >= cell_dt[smallest]:
+            smallest = e
+    counters[ELEMENT] = smallest
+    if not cell_dt[smallest] > 0.0:
+        return float(FAIL_INVERTED)
+    dt_new = limits[TSSFAC] * cell_dt[smallest]
+    if clock[FIRST_DT] == 0.0:
+        clock[FIRST_DT] = dt_new
+    elif dt_new < limits[MIN_STEP_RATIO] * clock[FIRST_DT]:
+        clock[DT] = dt_new
+        return float(FAIL_STEP_COLLAPSE)
+    return dt_new
+
+
+@nb.njit(inline="always")
+def record_row(
+    row: np.ndarray,
+    time: float,
+    reaction: np.ndarray,
+    penetration: np.ndarray,
+    sums: np.ndarray,
+    total_mass: float,
+    energies: np.ndarray,
+    balance: float,
+    n_active: int,
+) -> None:
+    """The history row (layout in :func:`finish_cycle`)."""
+    n_targets = reaction.shape[0]
+    row[0] = time
+    for k in range(n_targets):
+        for i in range(3):
+            row[1 + 3 * k + i] = reaction[k, i]
+    base = 1 + 3 * n_targets
+    for i in range(3):
+        row[base + i] = sums[3 + i] / total_mass
+    row[base + 3] = sums[0]
+    for c in range(N_ENERGIES):
+        row[base + 4 + c] = energies[c]
+    row[base + 4 + N_ENERGIES] = balance
+    row[base + 5 + N_ENERGIES] = n_active
+    for k in range(n_targets):
+        row[base + 6 + N_ENERGIES + k] = penetration[k]
+
+
 @nb.njit(fastmath=FASTMATH, cache=True)
 def finish_cycle(
     energy_increments: np.ndarray,
@@ -190,19 +240,9 @@ def finish_cycle(
         points, clock[TIME], node_ids, stiffness, c_offsets, kinds, params, contact_forces,
         reaction, penetration,
     )
-    smallest = 0
-    for e in range(cell_dt.shape[0]):
-        if not cell_dt[e] >= cell_dt[smallest]:
-            smallest = e
-    counters[ELEMENT] = smallest
-    if not cell_dt[smallest] > 0.0:
-        return FAIL_INVERTED
-    dt_new = limits[TSSFAC] * cell_dt[smallest]
-    if clock[FIRST_DT] == 0.0:
-        clock[FIRST_DT] = dt_new
-    elif dt_new < limits[MIN_STEP_RATIO] * clock[FIRST_DT]:
-        clock[DT] = dt_new
-        return FAIL_STEP_COLLAPSE
+    dt_new = next_step(cell_dt, clock, counters, limits)
+    if dt_new < 0.0:
+        return int(dt_new)
     assemble_and_update(
         cell_forces, offsets, entries, contact_forces, mass, limits[DAMPING], clock[DT], dt_new,
         points, velocities, sums,
@@ -216,21 +256,8 @@ def finish_cycle(
     balance = kinetic - limits[KINETIC0]
     for c in range(N_ENERGIES):
         balance += energies[c]
-    n_targets = reaction.shape[0]
-    row[0] = clock[TIME]
-    for k in range(n_targets):
-        for i in range(3):
-            row[1 + 3 * k + i] = reaction[k, i]
-    base = 1 + 3 * n_targets
-    for i in range(3):
-        row[base + i] = sums[3 + i] / limits[TOTAL_MASS]
-    row[base + 3] = kinetic
-    for c in range(N_ENERGIES):
-        row[base + 4 + c] = energies[c]
-    row[base + 4 + N_ENERGIES] = balance
-    row[base + 5 + N_ENERGIES] = n_active
-    for k in range(n_targets):
-        row[base + 6 + N_ENERGIES + k] = penetration[k]
+    record_row(row, clock[TIME], reaction, penetration, sums, limits[TOTAL_MASS], energies,
+               balance, n_active)  # fmt: skip
     if not (np.isfinite(kinetic) and np.isfinite(balance)):
         return FAIL_NON_FINITE
     reference = max(limits[KINETIC0], abs(energies[3]), limits[ENERGY_FLOOR])
