@@ -8,7 +8,6 @@ Runs with the same inputs are reused.
 
 from __future__ import annotations
 
-import dataclasses
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -16,7 +15,6 @@ from typing import Any
 
 import numpy as np
 
-from batball import __version__
 from batball.io.fields import write_time_series
 from batball.io.store import (
     load_cached_summary,
@@ -26,6 +24,7 @@ from batball.io.store import (
     write_text_atomic,
 )
 from batball.lab.compression import CompressionResult, CompressionSetup, run_compression
+from batball.lab.impact_run import ball_test_inputs
 from batball.mesh import mesh_quality
 from batball.report.plots import plot_lines
 from batball.solvers.explicit import ENERGY_COLUMNS
@@ -33,15 +32,6 @@ from batball.specs import BallSpec, ball_spec_to_toml_dict
 
 LBF = 4.4482216152605  # N
 IN = 0.0254  # m
-
-
-def compression_inputs(ball: BallSpec, setup: CompressionSetup) -> dict[str, Any]:
-    """Everything that determines a compression run, JSON-able (the key of its run folder)."""
-    return {
-        "ball": ball_spec_to_toml_dict(ball),
-        "setup": dataclasses.asdict(setup),
-        "batball": __version__,
-    }
 
 
 def summarise_compression(result: CompressionResult, wall_seconds: float) -> dict[str, Any]:
@@ -133,7 +123,7 @@ def run_compression_test(
     progress: Callable[[float], None] | None = None,
 ) -> tuple[dict[str, Any], Path]:
     """Run (or reuse) a compression test; returns its summary and its run folder."""
-    folder = run_folder(runs_dir, "compression", compression_inputs(ball, setup))
+    folder = run_folder(runs_dir, "compression", ball_test_inputs(ball, setup))
     cached = load_cached_summary(folder) if reuse else None
     if cached is not None:
         return cached, folder

@@ -37,8 +37,9 @@ OZ = 0.028349523125  # kg
 IN = 0.0254  # m
 
 
-def impact_inputs(ball: BallSpec, setup: ImpactSetup) -> dict[str, Any]:
-    """Everything that determines an impact run, JSON-able (the key of its run folder)."""
+def ball_test_inputs(ball: BallSpec, setup: Any) -> dict[str, Any]:
+    """Everything that determines a ball test's run (the ball, the test's setup dataclass, the
+    batball version), JSON-able: the key of its run folder."""
     return {
         "ball": ball_spec_to_toml_dict(ball),
         "setup": dataclasses.asdict(setup),
@@ -132,7 +133,7 @@ def run_impact_test(
     progress: Callable[[float], None] | None = None,
 ) -> tuple[dict[str, Any], Path]:
     """Run (or reuse) an impact test; returns its summary and its run folder."""
-    folder = run_folder(runs_dir, setup.test, impact_inputs(ball, setup))
+    folder = run_folder(runs_dir, setup.test, ball_test_inputs(ball, setup))
     cached = load_cached_summary(folder) if reuse else None
     if cached is not None:
         return cached, folder

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
-from batball.contact.rigid import RigidCylinder, RigidPlane
+from batball.contact.rigid import N_TARGET_PARAMS, RigidCylinder, RigidPlane
 from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces
 from batball.errors import SimulationError, SpecError
 from batball.mesh import Mesh
@@ -283,8 +283,6 @@ def packed_contacts(contacts: tuple[RigidContact, ...], reaction: np.ndarray) ->
     node_ids = np.concatenate([c.node_ids for c in contacts] or [np.zeros(0)]).astype(np.int64)
     stiffness = np.concatenate([c.stiffness for c in contacts] or [np.zeros(0)]).astype(float)
     kinds = np.array([k for k, _ in packed], dtype=np.int64)
-    from batball.contact.rigid import N_TARGET_PARAMS
-
     params = np.array([p for _, p in packed]).reshape(len(contacts), N_TARGET_PARAMS)
     return node_ids, stiffness, offsets, kinds, params, reaction, np.zeros(len(contacts))
 
@@ -350,6 +348,7 @@ class ExplicitSolver:
         limits[kern.ENERGY_FLOOR] = controls.energy_floor
         self.limits = limits
         self.scratch_row = np.zeros(self.work.row_width)
+        self.separated = False  # set by each cycle: contact ended long enough ago
 
     def element_forces(self) -> None:
         """Stress update and element nodal forces from x^n and v^(n-1/2)."""
@@ -437,7 +436,8 @@ class ExplicitSolver:
         if status == kern.FAIL_NON_FINITE:
             raise SimulationError(f"non-finite kinetic energy or energy balance at {when}")
         balance = row[3 + 3 * len(self.model.contacts) + len(ENERGY_COLUMNS)]
-        reference = max(self.kinetic0, abs(s.energies[3]), self.controls.energy_floor)
+        external = abs(s.energies[kern.CONTACT_ENERGY])
+        reference = max(self.kinetic0, external, self.controls.energy_floor)
         raise SimulationError(
             f"energy balance error reached {100 * balance / reference:+.1f} % of the initial "
             f"kinetic energy plus external work at {when}: the run is unstable (time step too "
@@ -453,7 +453,6 @@ class ExplicitSolver:
         points0 = self.model.mesh.points
         start = time.perf_counter()
         rec.maybe_frame(0.0, lambda: s.points - points0)
-        self.separated = False
         while s.clock[kern.TIME] < c.end_time and not self.separated:
             self.cycle(rec.next_row())
             rec.n_rows += 1

@@ -35,7 +35,7 @@ STEP, ELEMENT = range(2)
 ) = range(8)
 #: Slots of the ``energies`` array [J]: accumulated internal, hourglass, bulk-viscosity, contact
 #: (minus the work of the contact forces on the body) and damping (dissipated) energy.
-N_ENERGIES = 5
+CONTACT_ENERGY, DAMPING_ENERGY, N_ENERGIES = 3, 4, 5
 
 
 def node_cell_map(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
@@ -247,8 +247,8 @@ def finish_cycle(
         cell_forces, offsets, entries, contact_forces, mass, limits[DAMPING], clock[DT], dt_new,
         points, velocities, sums,
     )
-    energies[3] -= sums[1]
-    energies[4] += sums[2]
+    energies[CONTACT_ENERGY] -= sums[1]
+    energies[DAMPING_ENERGY] += sums[2]
     clock[TIME] += dt_new
     clock[DT] = dt_new
     counters[STEP] += 1
@@ -260,7 +260,7 @@ def finish_cycle(
                balance, n_active)  # fmt: skip
     if not (np.isfinite(kinetic) and np.isfinite(balance)):
         return FAIL_NON_FINITE
-    reference = max(limits[KINETIC0], abs(energies[3]), limits[ENERGY_FLOOR])
+    reference = max(limits[KINETIC0], abs(energies[CONTACT_ENERGY]), limits[ENERGY_FLOOR])
     if abs(balance) > limits[MAX_ENERGY_ERROR] * reference:
         return FAIL_ENERGY
     if n_active:
