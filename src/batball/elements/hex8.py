@@ -48,6 +48,7 @@ from batball.elements.hex8_block import (
     gather_material,
     material_factors,
     scatter_block,
+    scatter_forces,
 )
 from batball.numerics import FASTMATH
 
@@ -60,16 +61,18 @@ HOURGLASS_TYPES = {
     5: "Flanagan-Belytschko stiffness",
 }
 
-#: Columns of the per-chunk energy increments written by the kernel.
+#: Columns of the per-slot energy increments written by the kernel.
 ENERGY_INTERNAL, ENERGY_HOURGLASS, ENERGY_BULK_VISCOSITY = 0, 1, 2
 
 
 @nb.njit(inline="always")
-def _advance_chunk(
-    element_block, stiff, first, end, factors, mesh, material, state, outputs, controls
-):
-    """Cells first..end-1, block by block; returns their (internal, hourglass, bulk) work [J]."""
+def _advance_slot(element_block, stiff, slot, factors, mesh, material, state, outputs, controls):
+    """The cells of one slot, block by block: their forces are added into the slot's nodal
+    array; returns their (internal, hourglass, bulk) work [J]."""
     dt, hg_coefficient, q1, q2 = controls
+    nodal_forces = outputs[0]
+    n_slots, n_cells = nodal_forces.shape[0], mesh[2].shape[0]
+    first, end = slot * n_cells // n_slots, (slot + 1) * n_cells // n_slots
     n_terms = state[1].shape[1] // 6  # Prony terms: h holds 6 columns per term
     w = np.empty((N_ROWS + 8 * (n_terms - 1)) * BLOCK)
     internal = 0.0
@@ -81,6 +84,7 @@ def _advance_chunk(
         gather_material(w, start, n, material[0], factors)
         a, b, c = element_block(w, n, dt, q1, q2, hg_coefficient)
         scatter_block(w, start, n, state, outputs, stiff)
+        scatter_forces(w, start, n, mesh[2], nodal_forces[slot])
         internal += a
         hourglass += b
         bulk += c
@@ -89,20 +93,18 @@ def _advance_chunk(
 
 @nb.njit(inline="always")
 def _advance_all(element_block, stiff, mesh, material, state, outputs, controls):
-    """All cells, in the chunks of ``energy_increments`` (rows), in parallel."""
+    """All cells, in the equal contiguous slots of ``nodal_forces``, one slot per parallel
+    iteration (so each slot's nodal array has one writer and the sums do not depend on how the
+    iterations are scheduled)."""
     energy_increments = outputs[3]
-    n_cells = mesh[2].shape[0]
-    n_chunks = energy_increments.shape[0]
     factors = material_factors(material[1], material[2], controls[0])
-    for chunk in nb.prange(n_chunks):
-        first = chunk * n_cells // n_chunks
-        end = (chunk + 1) * n_cells // n_chunks
-        internal, hourglass, bulk = _advance_chunk(
-            element_block, stiff, first, end, factors, mesh, material, state, outputs, controls
+    for slot in nb.prange(energy_increments.shape[0]):
+        internal, hourglass, bulk = _advance_slot(
+            element_block, stiff, slot, factors, mesh, material, state, outputs, controls
         )
-        energy_increments[chunk, ENERGY_INTERNAL] = internal
-        energy_increments[chunk, ENERGY_HOURGLASS] = hourglass
-        energy_increments[chunk, ENERGY_BULK_VISCOSITY] = bulk
+        energy_increments[slot, ENERGY_INTERNAL] = internal
+        energy_increments[slot, ENERGY_HOURGLASS] = hourglass
+        energy_increments[slot, ENERGY_BULK_VISCOSITY] = bulk
 
 
 # One compiled kernel per hourglass form, so that a run compiles (and caches) only its own.
@@ -203,7 +205,7 @@ def compute_hex8_forces(
     hg_coefficient: float,
     q1: float,
     q2: float,
-    cell_forces: np.ndarray,
+    nodal_forces: np.ndarray,
     cell_volume: np.ndarray,
     cell_dt: np.ndarray,
     energy_increments: np.ndarray,
@@ -223,12 +225,16 @@ def compute_hex8_forces(
             hg_state: (n_cells, 4, 3) stiffness-form hourglass forces [N] (all updated in place).
         hg_type, hg_coefficient: LS-DYNA IHQ (a key of ``HOURGLASS_TYPES``) and QH/QM.
         q1, q2: bulk viscosity (0, 0 = off).
-        cell_forces: (n_cells, 24) out, nodal forces [N] (node-major);
+        nodal_forces: (n_slots, n_points, 3) in/out: the element forces [N] are ADDED here, the
+            cells split into n_slots equal contiguous slots, slot k adding into
+            ``nodal_forces[k]`` (the caller sums the slots and zeroes them; see
+            :func:`batball.solvers.explicit_kernels.assemble_and_update`). One slot per thread
+            makes the assembly parallel without atomics and without per-element force arrays.
         cell_volume: (n_cells,) out [m^3];
         cell_dt: (n_cells,) out, stable steps [s] (0 where the volume is not positive; such an
             element keeps its pressure and hourglass forces and gets no forces or work).
-        energy_increments: (n_chunks, 3) out: internal, hourglass, bulk-viscosity work [J] of
-            each of n_chunks equal slices of the cells (the slices run in parallel).
+        energy_increments: (n_slots, 3) out: internal, hourglass, bulk-viscosity work [J] of
+            each slot.
     """
     n_terms = h.shape[1] // 6
     if h.shape[1] != 6 * n_terms or material_constants.shape[1] != 2 * n_terms + 2:
@@ -236,10 +242,15 @@ def compute_hex8_forces(
             f"h has {h.shape[1]} columns and material_constants {material_constants.shape[1]}; "
             "expected 6 N and 2 N + 2 for N Prony terms (N = 1 for MAT_006)"
         )
+    if nodal_forces.shape[1:] != points.shape or nodal_forces.shape[0] != len(energy_increments):
+        raise ValueError(
+            f"nodal_forces has shape {nodal_forces.shape}; expected (n_slots, n_points, 3) with "
+            f"n_slots = {len(energy_increments)}, the rows of energy_increments"
+        )
     _KERNELS[hg_type, n_terms](
         (points, velocities, cells),
         (cell_material, material_constants, densities, volume0),
         (s_inf, h, pressure, hg_state),
-        (cell_forces, cell_volume, cell_dt, energy_increments),
+        (nodal_forces, cell_volume, cell_dt, energy_increments),
         (float(dt), float(hg_coefficient), float(q1), float(q2)),
     )

@@ -356,19 +356,16 @@ def scatter_block(
     outputs: tuple[np.ndarray, ...],
     stiff: bool,
 ) -> None:
-    """Updated stresses, pressure and (``stiff``) hourglass forces, and the nodal forces, volumes
-    and stable steps, back to cells start..start+n-1.
+    """Updated stresses, pressure and (``stiff``) hourglass forces, and the volumes and stable
+    steps, back to cells start..start+n-1.
 
     Args:
-        state: (s_inf, h, pressure, hg_state); outputs: (cell_forces, cell_volume, cell_dt, ...).
+        state: (s_inf, h, pressure, hg_state); outputs: (nodal_forces, cell_volume, cell_dt, ...).
     """
     s_inf, h = state[0][start : start + n], state[1][start : start + n]
     pressure, hourglass = state[2][start : start + n], state[3][start : start + n]
-    forces, volume, step = (outputs[0][start : start + n], outputs[1][start : start + n],
-                            outputs[2][start : start + n])  # fmt: skip
+    volume, step = outputs[1][start : start + n], outputs[2][start : start + n]
     for e in range(n):
-        for m in range(24):
-            forces[e, m] = w[at(R_X + m, e)]
         for k in range(6):
             s_inf[e, k] = w[at(R_S + k, e)]
             h[e, k] = w[at(R_H + k, e)]
@@ -381,3 +378,20 @@ def scatter_block(
             for mode in range(4):
                 for i in range(3):
                     hourglass[e, mode, i] = w[at(R_HG + 3 * mode + i, e)]
+
+
+@nb.njit
+def scatter_forces(
+    w: np.ndarray, start: int, n: int, cells: np.ndarray, forces: np.ndarray
+) -> None:
+    """Add the nodal forces of cells start..start+n-1 into ``forces`` (n_points, 3) [N].
+
+    ``forces`` belongs to one slot of the parallel loop, so no other thread writes it; the nodes
+    of consecutive cells are neighbours, so the writes stay in cache.
+    """
+    cells = cells[start : start + n]
+    for e in range(n):
+        for a in range(8):
+            node = cells[e, a]
+            for i in range(3):
+                forces[node, i] += w[at(R_X + 3 * a + i, e)]

@@ -25,7 +25,7 @@ from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces
 from batball.errors import SimulationError, SpecError
 from batball.mesh import Mesh
 from batball.solvers import explicit_kernels as kern
-from batball.solvers.explicit_kernels import lumped_masses, node_cell_map
+from batball.solvers.explicit_kernels import lumped_masses, slot_node_ranges
 
 IN = 0.0254  # m, for messages a person reads
 
@@ -258,14 +258,15 @@ class _Workspace:
             )
         cell_mass = model.densities[model.cell_material] * self.volume0
         self.mass = lumped_masses(mesh.cells, cell_mass, mesh.n_points)
-        self.cell_forces = np.zeros((mesh.n_cells, 24))
         self.cell_volume = np.zeros(mesh.n_cells)
         self.cell_dt = np.zeros(mesh.n_cells)
-        self.n_chunks = max(1, min(mesh.n_cells, 16 * nb.get_num_threads()))
-        self.energy_increments = np.zeros((self.n_chunks, 3))
+        # one slot of element forces per thread (see compute_hex8_forces)
+        n_slots = max(1, min(mesh.n_cells, nb.get_num_threads()))
+        self.nodal_forces = np.zeros((n_slots, mesh.n_points, 3))
+        self.energy_increments = np.zeros((n_slots, 3))
         self.contact_forces = np.zeros((mesh.n_points, 3))
-        offsets, entries = node_cell_map(mesh.cells, mesh.n_points)
-        self.nodes = (offsets, entries, self.mass, self.contact_forces, np.zeros(6))
+        slot_nodes = slot_node_ranges(mesh.cells, n_slots)
+        self.nodes = (slot_nodes, self.mass, self.contact_forces, np.zeros(6))
         self.reaction = np.zeros((len(model.contacts), 3))
         self.contacts = packed_contacts(model.contacts, self.reaction)
         bv = controls.bulk_viscosity
@@ -370,7 +371,7 @@ class ExplicitSolver:
             c.coefficient,
             w.q1,
             w.q2,
-            w.cell_forces,
+            w.nodal_forces,
             w.cell_volume,
             w.cell_dt,
             w.energy_increments,
@@ -383,7 +384,7 @@ class ExplicitSolver:
             kern.finish_cycle(
                 w.energy_increments,
                 w.cell_dt,
-                w.cell_forces,
+                w.nodal_forces,
                 w.nodes,
                 w.contacts,
                 s.points,

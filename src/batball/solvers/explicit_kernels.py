@@ -38,26 +38,44 @@ STEP, ELEMENT = range(2)
 CONTACT_ENERGY, DAMPING_ENERGY, N_ENERGIES = 3, 4, 5
 
 
-def node_cell_map(cells: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
-    """CSR map from each node to the (cell * 8 + local node) slots that touch it.
+def slot_node_ranges(cells: np.ndarray, n_slots: int) -> np.ndarray:
+    """The node ids each slot of the element kernel can write: (n_slots, 2) [lowest, highest + 1]
+    over the slot's cells (the cells split into equal contiguous slots as in
+    :func:`batball.elements.hex8.compute_hex8_forces`). The update reads and clears a slot's
+    nodal forces only inside its range."""
+    n_cells = cells.shape[0]
+    ranges = np.zeros((n_slots, 2), dtype=np.int64)
+    for slot in range(n_slots):
+        part = cells[slot * n_cells // n_slots : (slot + 1) * n_cells // n_slots]
+        if part.size:
+            ranges[slot] = part.min(), part.max() + 1
+    return ranges
 
-    Returns:
-        offsets (n_points + 1,) and entries (8 n_cells,), int64: node n's slots are
-        ``entries[offsets[n]:offsets[n + 1]]``. Gathering through it needs no atomics.
-    """
-    flat = cells.ravel()
-    order = np.argsort(flat, kind="stable")
-    counts = np.bincount(flat, minlength=n_points)
-    offsets = np.zeros(n_points + 1, dtype=np.int64)
-    np.cumsum(counts, out=offsets[1:])
-    return offsets, order.astype(np.int64)
+
+@nb.njit(fastmath=FASTMATH)
+def take_nodal_force(
+    nodal_forces: np.ndarray, slot_nodes: np.ndarray, contact_forces: np.ndarray, n: int
+) -> tuple[float, float, float]:
+    """Node n's total force [N]: its contact force plus the slots' element forces, which are
+    cleared for the next cycle."""
+    f0 = contact_forces[n, 0]
+    f1 = contact_forces[n, 1]
+    f2 = contact_forces[n, 2]
+    for slot in range(nodal_forces.shape[0]):
+        if slot_nodes[slot, 0] <= n < slot_nodes[slot, 1]:
+            f0 += nodal_forces[slot, n, 0]
+            f1 += nodal_forces[slot, n, 1]
+            f2 += nodal_forces[slot, n, 2]
+            nodal_forces[slot, n, 0] = 0.0
+            nodal_forces[slot, n, 1] = 0.0
+            nodal_forces[slot, n, 2] = 0.0
+    return f0, f1, f2
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def assemble_and_update(
-    cell_forces: np.ndarray,
-    offsets: np.ndarray,
-    entries: np.ndarray,
+    nodal_forces: np.ndarray,
+    slot_nodes: np.ndarray,
     contact_forces: np.ndarray,
     mass: np.ndarray,
     damping: float,
@@ -67,14 +85,14 @@ def assemble_and_update(
     velocities: np.ndarray,
     sums: np.ndarray,
 ) -> None:
-    """Gather the element forces to the nodes and take one central-difference step, in place:
+    """Sum the element kernel's slots of nodal forces (clearing them for the next cycle) and take
+    one central-difference step, in place:
     m (v^(n+1/2) - v^(n-1/2)) / h = f^n - c m (v^(n+1/2) + v^(n-1/2)) / 2, h = (dt_old + dt_new)/2,
-    x^(n+1) = x^n + dt_new v^(n+1/2), with mass-proportional damping c (0 = undamped). The gather
-    reads each node's slots through :func:`node_cell_map`'s CSR map: parallel without atomics.
+    x^(n+1) = x^n + dt_new v^(n+1/2), with mass-proportional damping c (0 = undamped).
 
     Args:
-        cell_forces: (n_cells, 24) element forces [N], node-major.
-        offsets, entries: the node-to-slot map.
+        nodal_forces: (n_slots, n_points, 3) the element forces [N] of each slot (zeroed here).
+        slot_nodes: (n_slots, 2) the node range of each slot (:func:`slot_node_ranges`).
         contact_forces: (n_points, 3) [N]; mass: (n_points,) lumped masses [kg]; damping: c [1/s].
         points, velocities: (n_points, 3) x^n and v^(n-1/2), advanced in place [m, m/s].
         sums: (6,) out: kinetic energy at n+1/2 [J], work of the contact forces over the step [J]
@@ -82,7 +100,6 @@ def assemble_and_update(
             kinetic-energy change of the scheme), energy dissipated by the damping [J], and the
             total momentum [kg m/s].
     """
-    flat = cell_forces.reshape((-1, 3))
     half = 0.5 * (dt_old + dt_new)
     keep = 1.0 - 0.5 * damping * half
     scale = 1.0 / (1.0 + 0.5 * damping * half)
@@ -93,14 +110,7 @@ def assemble_and_update(
     p1 = 0.0
     p2 = 0.0
     for n in nb.prange(points.shape[0]):
-        f0 = contact_forces[n, 0]
-        f1 = contact_forces[n, 1]
-        f2 = contact_forces[n, 2]
-        for k in range(offsets[n], offsets[n + 1]):
-            slot = entries[k]
-            f0 += flat[slot, 0]
-            f1 += flat[slot, 1]
-            f2 += flat[slot, 2]
+        f0, f1, f2 = take_nodal_force(nodal_forces, slot_nodes, contact_forces, n)
         m = mass[n]
         h_m = half / m
         v0 = velocities[n, 0]
@@ -199,7 +209,7 @@ def record_row(
 def finish_cycle(
     energy_increments: np.ndarray,
     cell_dt: np.ndarray,
-    cell_forces: np.ndarray,
+    nodal_forces: np.ndarray,
     nodes: tuple,
     contacts: tuple,
     points: np.ndarray,
@@ -213,9 +223,9 @@ def finish_cycle(
     """The rest of a cycle once the element kernel has run: contact, step, update, checks, record.
 
     Args:
-        energy_increments: (n_chunks, 3) the element kernel's internal, hourglass, bulk work [J].
-        cell_dt: (n_cells,) element stable steps [s]; cell_forces: (n_cells, 24) [N].
-        nodes: (offsets, entries, mass, contact_forces, sums) of :func:`assemble_and_update`.
+        energy_increments: (n_slots, 3) the element kernel's internal, hourglass, bulk work [J].
+        cell_dt: (n_cells,) element stable steps [s]; nodal_forces: (n_slots, n_points, 3) [N].
+        nodes: (slot_nodes, mass, contact_forces, sums) of :func:`assemble_and_update`.
         contacts: (node_ids, stiffness, offsets, kinds, params, reaction, penetration) of
             ``add_rigid_contact_forces``.
         points, velocities: x^n and v^(n-1/2), advanced in place.
@@ -228,7 +238,7 @@ def finish_cycle(
         CYCLE_OK, CYCLE_SEPARATED or a FAIL_* code (the step is then not taken, or for
         FAIL_NON_FINITE / FAIL_ENERGY taken and recorded; ``counters[ELEMENT]`` names the element).
     """
-    offsets, entries, mass, contact_forces, sums = nodes
+    slot_nodes, mass, contact_forces, sums = nodes
     node_ids, stiffness, c_offsets, kinds, params, reaction, penetration = contacts
     for c in range(3):
         total = 0.0
@@ -244,7 +254,7 @@ def finish_cycle(
     if dt_new < 0.0:
         return int(dt_new)
     assemble_and_update(
-        cell_forces, offsets, entries, contact_forces, mass, limits[DAMPING], clock[DT], dt_new,
+        nodal_forces, slot_nodes, contact_forces, mass, limits[DAMPING], clock[DT], dt_new,
         points, velocities, sums,
     )
     energies[CONTACT_ENERGY] -= sums[1]

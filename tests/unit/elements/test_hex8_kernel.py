@@ -156,17 +156,19 @@ def distorted_model(seed: int) -> dict:
 def run_kernel(model: dict, hg_type: int, qh: float, q1: float, q2: float, n_chunks: int) -> dict:
     m = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in model.items()}
     n_cells = m["cells"].shape[0]
-    out = {"forces": np.zeros((n_cells, 24)), "volume": np.zeros(n_cells), "dt": np.zeros(n_cells),
-           "energy": np.zeros((n_chunks, 3))}  # fmt: skip
+    n_points = m["points"].shape[0]
+    out = {"slots": np.zeros((n_chunks, n_points, 3)), "volume": np.zeros(n_cells),
+           "dt": np.zeros(n_cells), "energy": np.zeros((n_chunks, 3))}  # fmt: skip
     constants = np.array([[x.bulk, x.g0, x.g_inf, x.beta] for x in MATERIALS])
     densities = np.array([x.density for x in MATERIALS])
     compute_hex8_forces(
         m["points"], m["velocities"], m["cells"], m["dt"], m["cell_material"], constants,
         densities, m["volume0"], m["s_inf"], m["h"], m["pressure"], m["hg_state"], hg_type, qh,
-        q1, q2, out["forces"], out["volume"], out["dt"], out["energy"],
+        q1, q2, out["slots"], out["volume"], out["dt"], out["energy"],
     )  # fmt: skip
-    return out | {"s_inf": m["s_inf"], "h": m["h"], "pressure": m["pressure"],
-                  "hg": m["hg_state"], "energy": out["energy"].sum(axis=0)}  # fmt: skip
+    return out | {"forces": out["slots"].sum(axis=0), "s_inf": m["s_inf"], "h": m["h"],
+                  "pressure": m["pressure"], "hg": m["hg_state"],
+                  "energy": out["energy"].sum(axis=0)}  # fmt: skip
 
 
 def run_reference(model: dict, hg_type: int, qh: float, q1: float, q2: float) -> dict:
@@ -178,9 +180,17 @@ def run_reference(model: dict, hg_type: int, qh: float, q1: float, q2: float) ->
             model["h"][e], model["pressure"][e], model["hg_state"][e], hg_type, qh, q1, q2,
         ))  # fmt: skip
     out = {k: np.array([r[k] for r in rows]) for k in rows[0]}
-    out["forces"] = out["forces"].reshape(len(rows), 24)
+    out["cell_forces"] = out.pop("forces").reshape(len(rows), 8, 3)
+    out["forces"] = assembled(out["cell_forces"], model)
     out["energy"] = out["energy"].sum(axis=0)
     return out
+
+
+def assembled(cell_forces: np.ndarray, model: dict) -> np.ndarray:
+    """Element forces (n_cells, 8, 3) summed to the nodes, (n_points, 3)."""
+    nodal = np.zeros_like(model["points"])
+    np.add.at(nodal, model["cells"], cell_forces)
+    return nodal
 
 
 def assert_close(actual: np.ndarray, expected: np.ndarray, rel: float = 1e-10) -> None:
@@ -204,9 +214,11 @@ def test_kernel_matches_the_per_element_reference(hg_type: int) -> None:
 def test_inverted_element_gets_no_forces_step_or_work() -> None:
     model = distorted_model(seed=9)
     got = run_kernel(model, 4, qh=0.1, q1=1.5, q2=0.06, n_chunks=2)
+    want = run_reference(model, 4, 0.1, 1.5, 0.06)
+    want["cell_forces"][7] = 0.0
     assert got["volume"][7] < 0.0
     assert got["dt"][7] == 0.0
-    assert np.all(got["forces"][7] == 0.0)
+    assert_close(got["forces"], assembled(want["cell_forces"], model))  # nothing from cell 7
     assert got["pressure"][7] == model["pressure"][7]
     assert np.all(got["hg"][7] == model["hg_state"][7])
     assert np.all(got["dt"][np.arange(60) != 7] > 0.0)
@@ -218,6 +230,8 @@ def test_energies_do_not_depend_on_the_number_of_chunks() -> None:
     many = run_kernel(model, 1, qh=0.1, q1=1.5, q2=0.06, n_chunks=7)
     np.testing.assert_allclose(many["energy"], one["energy"], rtol=1e-12)
     assert_close(many["forces"], one["forces"], rel=1e-13)  # vector or scalar remainder path
+    # each slot adds into its own cells' nodes only
+    assert np.all(np.abs(many["slots"]).sum(axis=2).min(axis=1) == 0.0)
 
 
 def test_bulk_viscosity_off_and_uniform_material() -> None:

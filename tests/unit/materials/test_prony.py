@@ -32,7 +32,7 @@ def drive_pure_shear(constants: np.ndarray, *, rate: float, dt: float, n_steps: 
     cells = np.arange(8)[None, :]
     s_inf, h = np.zeros((1, 6)), np.zeros((1, 6 * n_terms))
     pressure, hg = np.zeros(1), np.zeros((1, 4, 3))
-    forces, volume, step, energy = np.zeros((1, 24)), np.zeros(1), np.zeros(1), np.zeros((1, 3))
+    forces, volume, step, energy = np.zeros((1, 8, 3)), np.zeros(1), np.zeros(1), np.zeros((1, 3))
     tau = np.empty(n_steps)
     for n in range(n_steps):
         velocities = (points - points.mean(axis=0)) @ grad.T
