@@ -54,13 +54,13 @@ def slot_node_ranges(cells: np.ndarray, n_slots: int) -> np.ndarray:
 
 @nb.njit(fastmath=FASTMATH)
 def take_nodal_force(
-    nodal_forces: np.ndarray, slot_nodes: np.ndarray, contact_forces: np.ndarray, n: int
+    nodal_forces: np.ndarray, slot_nodes: np.ndarray, n: int
 ) -> tuple[float, float, float]:
-    """Node n's total force [N]: its contact force plus the slots' element forces, which are
-    cleared for the next cycle."""
-    f0 = contact_forces[n, 0]
-    f1 = contact_forces[n, 1]
-    f2 = contact_forces[n, 2]
+    """Node n's total force [N], the sum of the slots holding it, which are cleared for the next
+    cycle."""
+    f0 = 0.0
+    f1 = 0.0
+    f2 = 0.0
     for slot in range(nodal_forces.shape[0]):
         if slot_nodes[slot, 0] <= n < slot_nodes[slot, 1]:
             f0 += nodal_forces[slot, n, 0]
@@ -76,7 +76,6 @@ def take_nodal_force(
 def assemble_and_update(
     nodal_forces: np.ndarray,
     slot_nodes: np.ndarray,
-    contact_forces: np.ndarray,
     mass: np.ndarray,
     damping: float,
     dt_old: float,
@@ -85,32 +84,29 @@ def assemble_and_update(
     velocities: np.ndarray,
     sums: np.ndarray,
 ) -> None:
-    """Sum the element kernel's slots of nodal forces (clearing them for the next cycle) and take
-    one central-difference step, in place:
+    """Sum the slots of nodal forces (element and contact forces; cleared for the next cycle) and
+    take one central-difference step, in place:
     m (v^(n+1/2) - v^(n-1/2)) / h = f^n - c m (v^(n+1/2) + v^(n-1/2)) / 2, h = (dt_old + dt_new)/2,
     x^(n+1) = x^n + dt_new v^(n+1/2), with mass-proportional damping c (0 = undamped).
 
     Args:
-        nodal_forces: (n_slots, n_points, 3) the element forces [N] of each slot (zeroed here).
+        nodal_forces: (n_slots, n_points, 3) the forces [N] of each slot (zeroed here).
         slot_nodes: (n_slots, 2) the node range of each slot (:func:`slot_node_ranges`).
-        contact_forces: (n_points, 3) [N]; mass: (n_points,) lumped masses [kg]; damping: c [1/s].
+        mass: (n_points,) lumped masses [kg]; damping: c [1/s].
         points, velocities: (n_points, 3) x^n and v^(n-1/2), advanced in place [m, m/s].
-        sums: (6,) out: kinetic energy at n+1/2 [J], work of the contact forces over the step [J]
-            (taken with the mean displacement (dx^(n-1/2) + dx^(n+1/2)) / 2, consistent with the
-            kinetic-energy change of the scheme), energy dissipated by the damping [J], and the
-            total momentum [kg m/s].
+        sums: (6,) out: kinetic energy at n+1/2 [J], (slot 1 is left to the caller: the contact
+            work), energy dissipated by the damping [J], and the total momentum [kg m/s].
     """
     half = 0.5 * (dt_old + dt_new)
     keep = 1.0 - 0.5 * damping * half
     scale = 1.0 / (1.0 + 0.5 * damping * half)
     kinetic = 0.0
-    contact_work = 0.0
     damping_work = 0.0
     p0 = 0.0
     p1 = 0.0
     p2 = 0.0
     for n in nb.prange(points.shape[0]):
-        f0, f1, f2 = take_nodal_force(nodal_forces, slot_nodes, contact_forces, n)
+        f0, f1, f2 = take_nodal_force(nodal_forces, slot_nodes, n)
         m = mass[n]
         h_m = half / m
         v0 = velocities[n, 0]
@@ -125,11 +121,6 @@ def assemble_and_update(
         points[n, 0] += dt_new * w0
         points[n, 1] += dt_new * w1
         points[n, 2] += dt_new * w2
-        contact_work += 0.5 * (
-            contact_forces[n, 0] * (v0 * dt_old + w0 * dt_new)
-            + contact_forces[n, 1] * (v1 * dt_old + w1 * dt_new)
-            + contact_forces[n, 2] * (v2 * dt_old + w2 * dt_new)
-        )
         a0 = 0.5 * (v0 + w0)
         a1 = 0.5 * (v1 + w1)
         a2 = 0.5 * (v2 + w2)
@@ -139,11 +130,44 @@ def assemble_and_update(
         p1 += m * w1
         p2 += m * w2
     sums[0] = kinetic
-    sums[1] = contact_work
     sums[2] = damping_work
     sums[3] = p0
     sums[4] = p1
     sums[5] = p2
+
+
+def contact_node_slots(
+    node_ids: np.ndarray, slot_nodes: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct nodes that may touch a target, and for each the first slot whose node range
+    holds it (where :func:`finish_cycle` adds its contact force)."""
+    nodes = np.unique(node_ids).astype(np.int64)
+    slots = np.zeros(nodes.size, dtype=np.int64)
+    for j, n in enumerate(nodes):
+        holding = np.flatnonzero((slot_nodes[:, 0] <= n) & (n < slot_nodes[:, 1]))
+        slots[j] = holding[0] if holding.size else 0
+    return nodes, slots
+
+
+@nb.njit(inline="always")
+def contact_power(nodes: np.ndarray, contact_forces: np.ndarray, velocities: np.ndarray) -> float:
+    """sum f . v over the contact nodes [W]."""
+    power = 0.0
+    for n in nodes:
+        for i in range(3):
+            power += contact_forces[n, i] * velocities[n, i]
+    return power
+
+
+@nb.njit(inline="always")
+def move_contact_forces(
+    nodes: np.ndarray, slots: np.ndarray, contact_forces: np.ndarray, nodal_forces: np.ndarray
+) -> None:
+    """Add the contact nodes' forces into their slots of ``nodal_forces``."""
+    for j in range(nodes.shape[0]):
+        n = nodes[j]
+        for i in range(3):
+            nodal_forces[slots[j], n, i] += contact_forces[n, i]
 
 
 def lumped_masses(cells: np.ndarray, cell_mass: np.ndarray, n_points: int) -> np.ndarray:
@@ -225,7 +249,9 @@ def finish_cycle(
     Args:
         energy_increments: (n_slots, 3) the element kernel's internal, hourglass, bulk work [J].
         cell_dt: (n_cells,) element stable steps [s]; nodal_forces: (n_slots, n_points, 3) [N].
-        nodes: (slot_nodes, mass, contact_forces, sums) of :func:`assemble_and_update`.
+        nodes: (slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots): as in
+            :func:`assemble_and_update`, the (n_points, 3) contact forces (only the contact
+            nodes' rows are used) and :func:`contact_node_slots`.
         contacts: (node_ids, stiffness, offsets, kinds, params, reaction, penetration) of
             ``add_rigid_contact_forces``.
         points, velocities: x^n and v^(n-1/2), advanced in place.
@@ -238,14 +264,17 @@ def finish_cycle(
         CYCLE_OK, CYCLE_SEPARATED or a FAIL_* code (the step is then not taken, or for
         FAIL_NON_FINITE / FAIL_ENERGY taken and recorded; ``counters[ELEMENT]`` names the element).
     """
-    slot_nodes, mass, contact_forces, sums = nodes
+    slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots = nodes
     node_ids, stiffness, c_offsets, kinds, params, reaction, penetration = contacts
     for c in range(3):
         total = 0.0
         for k in range(energy_increments.shape[0]):
             total += energy_increments[k, c]
         energies[c] += total
-    contact_forces[:] = 0.0
+    for n in contact_nodes:
+        contact_forces[n, 0] = 0.0
+        contact_forces[n, 1] = 0.0
+        contact_forces[n, 2] = 0.0
     n_active = add_rigid_contact_forces(
         points, clock[TIME], node_ids, stiffness, c_offsets, kinds, params, contact_forces,
         reaction, penetration,
@@ -253,10 +282,15 @@ def finish_cycle(
     dt_new = next_step(cell_dt, clock, counters, limits)
     if dt_new < 0.0:
         return int(dt_new)
+    # contact work over the step with the mean displacement (dx^(n-1/2) + dx^(n+1/2)) / 2, which
+    # is consistent with the kinetic-energy change of the scheme
+    work = 0.5 * clock[DT] * contact_power(contact_nodes, contact_forces, velocities)
+    move_contact_forces(contact_nodes, contact_slots, contact_forces, nodal_forces)
     assemble_and_update(
-        nodal_forces, slot_nodes, contact_forces, mass, limits[DAMPING], clock[DT], dt_new,
-        points, velocities, sums,
+        nodal_forces, slot_nodes, mass, limits[DAMPING], clock[DT], dt_new, points, velocities,
+        sums,
     )
+    sums[1] = work + 0.5 * dt_new * contact_power(contact_nodes, contact_forces, velocities)
     energies[CONTACT_ENERGY] -= sums[1]
     energies[DAMPING_ENERGY] += sums[2]
     clock[TIME] += dt_new
