@@ -1,0 +1,239 @@
+"""Write a ball-impact test (CCOR against the F2845 half-cylinder, COR against the F1887 wall) as
+a complete LS-DYNA keyword deck, built from the same objects as :func:`batball.lab.impact.
+run_impact` (:func:`~batball.lab.impact.ball_body`, :func:`~batball.lab.impact.make_target`).
+
+The ball is part 1 (hexes, ELFORM 1, its material law's *MAT card). batball's analytic rigid
+target becomes part 2, a mesh of *MAT_RIGID shells fixed in space (CMO = 1, CON1 = CON2 = 7), and
+the penalty contact stays a penalty contact: *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE with the ball
+as SURFA and the target as SURFB, SOFT/SOFSCL on card A, SFSA on card 3 and SLSFAC on
+*CONTROL_CONTACT, which are the fields batball's contact stiffness reads. A *RIGIDWALL would
+have been shorter but is a constraint (no SLSFAC/SOFT penalty), so it would change the force
+history that CCOR, DS and contact time are measured on. Automatic contacts offset a shell's
+contact surface by half its thickness, so the shells lie half a thickness behind batball's face:
+the contact face is where batball's is.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+import numpy as np
+
+from batball import __version__
+from batball.contact.rigid import RigidCylinder, RigidPlane
+from batball.errors import SpecError
+from batball.io.keyword_cards import UnitSystem, comment_header, format_card, unit_system
+from batball.lab.impact import ImpactSetup, ball_body, make_target
+from batball.specs import BallSpec
+
+IN = 0.0254  # m
+#: Shell thickness of the rigid target [m]; only its contact offset matters (it is rigid).
+TARGET_THICKNESS = 0.05 * IN
+#: Steel for the rigid part's contact stiffness (E, nu, density; SI). LS-DYNA uses the rigid
+#: part's E and PR only to size the penalty on its side of the contact.
+STEEL = (200e9, 0.3, 7850.0)
+BALL_PART, TARGET_PART = 1, 2
+TARGET_NODE_START = 1_000_001
+TARGET_ELEMENT_START = 1_000_001
+
+
+def keyword(name: str, *cards: dict[str, object], comment: bool = True) -> list[str]:
+    """``*NAME`` and its cards, each under a ``$#`` line naming its fields."""
+    lines = [f"*{name}"]
+    for i, card in enumerate(cards):
+        if comment:
+            lines.append(comment_header(name, i))
+        lines.append(format_card(name, i, card))
+    return lines
+
+
+def material_cards(ball: BallSpec, density: float, u: UnitSystem) -> list[str]:
+    """The ball's *MAT card (MID 1) in units ``u``."""
+    values = ball.material.values
+    ro = density / u.density
+    if ball.material.law == "mat006":
+        return keyword("MAT_VISCOELASTIC", {
+            "mid": 1, "ro": ro, "bulk": values["bulk_modulus"] / u.pressure,
+            "g0": values["g0"] / u.pressure, "gi": values["g_inf"] / u.pressure,
+            "beta": values["beta"] * u.time,
+        })  # fmt: skip
+    if ball.material.law == "elastic":
+        return keyword("MAT_ELASTIC", {
+            "mid": 1, "ro": ro, "e": values["youngs_modulus"] / u.pressure,
+            "pr": values["poissons_ratio"],
+        })  # fmt: skip
+    raise SpecError("material.law", ball.material.law, "mat006 or elastic for a keyword export")
+
+
+def target_shells(
+    target: RigidPlane | RigidCylinder, ball_radius: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes [m] and quads (0-based) of the target's mid-surface, half a thickness behind its face.
+
+    The cylinder's front half is cut in 96 facets around and 24 along (chord sag 1.8e-4 in on the
+    2.63-in cylinder); the wall is a square of four ball diameters, 20 x 20 quads. Quads are
+    ordered so that their normals point toward the ball.
+    """
+    half = 0.5 * TARGET_THICKNESS
+    if isinstance(target, RigidPlane):
+        n = np.asarray(target.normal, dtype=float) / np.linalg.norm(target.normal)
+        e1 = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(n, e1)
+        s = np.linspace(-4 * ball_radius, 4 * ball_radius, 21)
+        a, b = np.meshgrid(s, s, indexing="ij")
+        centre = np.asarray(target.point, dtype=float) - half * n
+        points = centre + a.reshape(-1, 1) * e1 + b.reshape(-1, 1) * e2
+        return points, _grid_quads(21, 21)
+    axis = np.asarray(target.axis, dtype=float) / np.linalg.norm(target.axis)
+    front = np.asarray(target.front, dtype=float) / np.linalg.norm(target.front)
+    side = np.cross(axis, front)
+    theta = np.linspace(-0.5 * np.pi, 0.5 * np.pi, 97)
+    s = np.linspace(-0.5 * target.length, 0.5 * target.length, 25)
+    r = target.radius - half
+    radial = np.cos(theta)[:, None] * front + np.sin(theta)[:, None] * side
+    points = (
+        np.asarray(target.axis_point, dtype=float)
+        + (r * radial)[:, None, :]
+        + s[None, :, None] * axis
+    ).reshape(-1, 3)
+    quads = _grid_quads(97, 25)
+    # (theta, s) grid: d/dtheta x d/ds = r (front x ... ) -> orient outward (away from the axis)
+    p = points[quads]
+    normal = np.cross(p[:, 1] - p[:, 0], p[:, 3] - p[:, 0])
+    outward = p.mean(axis=1) - np.asarray(target.axis_point)
+    if np.einsum("ij,ij->i", normal, outward).mean() < 0:
+        quads = quads[:, ::-1]
+    return points, quads
+
+
+def _grid_quads(n_a: int, n_b: int) -> np.ndarray:
+    """Quads of a structured n_a x n_b node grid numbered a-major."""
+    a, b = np.meshgrid(np.arange(n_a - 1), np.arange(n_b - 1), indexing="ij")
+    first = (a * n_b + b).ravel()
+    return np.stack([first, first + n_b, first + n_b + 1, first + 1], axis=1)
+
+
+def node_lines(points: np.ndarray, start: int, u: UnitSystem) -> Iterable[str]:
+    """*NODE cards for ``points`` [m] numbered from ``start``."""
+    for i, (x, y, z) in enumerate(points / u.length):
+        yield format_card("NODE", 0, {"nid": start + i, "x": x, "y": y, "z": z})
+
+
+def control_cards(setup: ImpactSetup, u: UnitSystem) -> list[str]:
+    """*CONTROL_* cards: end time, TSSFAC, hourglass, bulk viscosity and the contact SLSFAC."""
+    bv = setup.bulk_viscosity
+    q1, q2 = (bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)
+    return [
+        *keyword("CONTROL_TERMINATION", {"endtim": setup.end_time / u.time}),
+        *keyword("CONTROL_TIMESTEP", {"dtinit": 0.0, "tssfac": setup.time_step_scale}),
+        *keyword("CONTROL_HOURGLASS", {
+            "ihq": setup.hourglass.type, "qh": setup.hourglass.coefficient}),
+        *keyword("CONTROL_BULK_VISCOSITY", {"q1": q1, "q2": q2, "type": 1}),
+        *keyword("CONTROL_CONTACT", {"slsfac": setup.contact.slsfac}),
+    ]  # fmt: skip
+
+
+def database_cards(u: UnitSystem) -> list[str]:
+    """Histories the measurements need: RCFORC (load cell, 1 us), MATSUM (the ball's momentum
+    and velocity, 1 us), GLSTAT (energies), NODOUT and D3PLOT (fields every 0.1 ms)."""
+    fine, coarse = 1e-6 / u.time, 1e-5 / u.time
+    return [
+        *keyword("DATABASE_GLSTAT", {"dt": coarse, "binary": 1}),
+        *keyword("DATABASE_MATSUM", {"dt": fine, "binary": 1}),
+        *keyword("DATABASE_RCFORC", {"dt": fine, "binary": 1}),
+        *keyword("DATABASE_NODOUT", {"dt": coarse, "binary": 1}),
+        *keyword("DATABASE_BINARY_D3PLOT", {"dt": 1e-4 / u.time}),
+    ]
+
+
+def part_cards(setup: ImpactSetup) -> list[str]:
+    """Parts, sections and the *HOURGLASS card of the ball, and the target's *MAT_RIGID."""
+    return [
+        *keyword("PART", {"heading": "ball"}, {
+            "pid": BALL_PART, "secid": 1, "mid": 1, "eosid": 0, "hgid": 1}),
+        *keyword("SECTION_SOLID", {"secid": 1, "elform": 1}),
+        *keyword("HOURGLASS", {
+            "hgid": 1, "ihq": setup.hourglass.type, "qm": setup.hourglass.coefficient}),
+        *keyword("PART", {"heading": f"rigid {setup.test} target"}, {
+            "pid": TARGET_PART, "secid": 2, "mid": 2}),
+    ]  # fmt: skip
+
+
+def target_cards(u: UnitSystem) -> list[str]:
+    """*SECTION_SHELL and *MAT_RIGID (fixed: CMO 1, CON1 = CON2 = 7) of the target."""
+    t = TARGET_THICKNESS / u.length
+    e, nu, rho = STEEL
+    return [
+        *keyword("SECTION_SHELL", {"secid": 2, "elform": 2, "shrf": 0.8333, "nip": 2},
+                 {"t1": t, "t2": t, "t3": t, "t4": t}),
+        *keyword("MAT_RIGID", {"mid": 2, "ro": rho / u.density, "e": e / u.pressure, "pr": nu},
+                 {"cmo": 1.0, "con1": 7.0, "con2": 7.0}, {"a1": 0.0}),
+    ]  # fmt: skip
+
+
+def contact_cards(setup: ImpactSetup) -> list[str]:
+    """The ball (SURFA, part) against the target (SURFB, part), frictionless penalty."""
+    c = setup.contact
+    return keyword(
+        "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE",
+        {"surfa": BALL_PART, "surfb": TARGET_PART, "surfatyp": 3, "surfbtyp": 3},
+        {"fs": 0.0, "fd": 0.0},
+        {"sfsa": c.sfs, "sfsb": 1.0},
+        {"soft": c.soft, "sofscl": c.sofscl},
+    )
+
+
+def impact_deck(ball: BallSpec, setup: ImpactSetup, units: str = "in-lbf-s") -> str:
+    """The keyword deck of one ball-impact test, as text."""
+    u = unit_system(units)
+    body = ball_body(ball, setup.divisions, setup.contact, setup.time_step_scale)
+    target = make_target(setup, ball.radius)
+    shell_points, quads = target_shells(target, ball.radius)
+    speed = setup.speed / u.velocity
+    lines = header_lines(ball, setup, u)
+    lines += keyword("TITLE", {"title": f"batball {setup.test} ball {ball.name} ({u.name})"})
+    lines += control_cards(setup, u) + database_cards(u) + part_cards(setup)
+    lines += material_cards(ball, body.density, u) + target_cards(u)
+    lines += ["*NODE", comment_header("NODE", 0)]
+    lines += node_lines(body.mesh.points, 1, u)
+    lines += node_lines(shell_points, TARGET_NODE_START, u)
+    lines += ["*ELEMENT_SOLID", comment_header("ELEMENT_SOLID", 0)]
+    for i, cell in enumerate(body.mesh.cells):
+        nodes = {f"n{k + 1}": int(n) + 1 for k, n in enumerate(cell)}
+        lines.append(format_card("ELEMENT_SOLID", 0, {"eid": i + 1, "pid": BALL_PART, **nodes}))
+    lines += ["*ELEMENT_SHELL", comment_header("ELEMENT_SHELL", 0)]
+    for i, quad in enumerate(quads):
+        nodes = {f"n{k + 1}": int(n) + TARGET_NODE_START for k, n in enumerate(quad)}
+        eid = TARGET_ELEMENT_START + i
+        lines.append(format_card("ELEMENT_SHELL", 0, {"eid": eid, "pid": TARGET_PART, **nodes}))
+    lines += keyword(
+        "INITIAL_VELOCITY_GENERATION",
+        {"id": BALL_PART, "styp": 2, "omega": 0.0, "vx": 0.0, "vy": 0.0, "vz": -speed},
+        {"xc": 0.0, "yc": 0.0, "zc": 0.0},
+    )
+    lines += contact_cards(setup)
+    lines.append("*END")
+    return "\n".join(lines) + "\n"
+
+
+def header_lines(ball: BallSpec, setup: ImpactSetup, u: UnitSystem) -> list[str]:
+    """Comment lines saying what the deck is, its units and where each measurement is read."""
+    return [
+        f"$ batball {__version__}: {setup.test} test of ball '{ball.name}' at "
+        f"{setup.speed / 0.44704:.6g} mph, {setup.divisions} divisions",
+        f"$ units {u.name}: {u.description}",
+        "$ part 1 = ball (moving along -z), part 2 = rigid target (fixed)",
+        "$ CCOR/COR = part 1 z-velocity after separation (MATSUM) / inbound speed;",
+        "$ peak force and contact time from RCFORC (1 % of peak); DS = F^2/(m v^2)",
+        "*KEYWORD",
+    ]
+
+
+def write_impact_deck(path: str, ball: BallSpec, setup: ImpactSetup, units: str) -> int:
+    """Write the deck to ``path``; returns its number of lines."""
+    from pathlib import Path
+
+    text = impact_deck(ball, setup, units)
+    Path(path).write_text(text, encoding="ascii")
+    return text.count("\n")
