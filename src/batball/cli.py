@@ -561,6 +561,7 @@ def add_export_parser(sub: Any) -> None:
     p.add_argument("--no-bulk-viscosity", action="store_true", help="Q1 = Q2 = 0")
     p.add_argument("--soft", type=int, default=0, help="contact SOFT option, 0 or 1 (default 0)")
     p.add_argument("--units", default="in-lbf-s", help="in-lbf-s (default), m-N-s or mm-N-ms")
+    p.add_argument("--long", action="store_true", help="long format: 20-column fields")
     p.add_argument("-o", "--output", required=True, help="the deck file to write (.k)")
     p.set_defaults(handler=run_export_command, contact_threshold=0.01)
 
@@ -573,7 +574,7 @@ def run_export_command(args: argparse.Namespace) -> int:
     args.speed = args.speed or DEFAULT_SPEEDS[args.test]
     ball = load_ball_spec(args.ball)
     setup = impact_setup(args)
-    n_lines = write_impact_deck(args.output, ball, setup, args.units)
+    n_lines = write_impact_deck(args.output, ball, setup, args.units, long=args.long)
     print(f"wrote {args.output}: {args.test} of ball {ball.name} at {args.speed}, "
           f"{n_lines} lines, units {args.units}")  # fmt: skip
     return 0

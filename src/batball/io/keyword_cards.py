@@ -204,7 +204,7 @@ def _compact_exponent(value: float, digits: int) -> str:
     return f"{mantissa}e{int(exponent)}"
 
 
-def format_card(keyword: str, card: int, values: dict[str, object]) -> str:
+def format_card(keyword: str, card: int, values: dict[str, object], long: bool = False) -> str:
     """One fixed-format card of ``keyword``: each field right-aligned in its columns.
 
     Fields missing from ``values`` (or None) are left blank (LS-DYNA's default); a name in
@@ -216,7 +216,8 @@ def format_card(keyword: str, card: int, values: dict[str, object]) -> str:
     if unknown:
         raise SpecError(f"*{keyword} card {card + 1}", sorted(unknown), f"fields {sorted(known)}")
     parts = []
-    for name, width, kind in layout:
+    for name, standard, kind in layout:
+        width = 20 if long and kind != "s" else standard
         value = values.get(name)
         if value is None:
             parts.append(" " * width)
@@ -233,9 +234,10 @@ def format_card(keyword: str, card: int, values: dict[str, object]) -> str:
     return "".join(parts).rstrip()
 
 
-def comment_header(keyword: str, card: int) -> str:
+def comment_header(keyword: str, card: int, long: bool = False) -> str:
     """A ``$#`` comment line naming the fields of a card above their columns."""
     parts = []
-    for i, (name, width, _) in enumerate(LAYOUTS[keyword][card]):
+    for i, (name, standard, kind) in enumerate(LAYOUTS[keyword][card]):
+        width = 20 if long and kind != "s" else standard
         parts.append(name.rjust(width) if i else "$#" + name[: width - 2].rjust(width - 2))
     return "".join(parts).rstrip()

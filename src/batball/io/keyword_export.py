@@ -16,6 +16,7 @@ the contact face is where batball's is.
 from __future__ import annotations
 
 from collections.abc import Iterable
+from contextvars import ContextVar
 
 import numpy as np
 
@@ -37,13 +38,27 @@ TARGET_NODE_START = 1_000_001
 TARGET_ELEMENT_START = 1_000_001
 
 
+#: Whether the deck being written uses long format (20 columns a field, *KEYWORD LONG=Y).
+_LONG: ContextVar[bool] = ContextVar("long_format", default=False)
+
+
+def card(name: str, index: int, values: dict[str, object]) -> str:
+    """One card of the deck being written, standard or long format."""
+    return format_card(name, index, values, long=_LONG.get())
+
+
+def head(name: str, index: int) -> str:
+    """The ``$#`` field-name line of one card of the deck being written."""
+    return comment_header(name, index, long=_LONG.get())
+
+
 def keyword(name: str, *cards: dict[str, object], comment: bool = True) -> list[str]:
     """``*NAME`` and its cards, each under a ``$#`` line naming its fields."""
     lines = [f"*{name}"]
-    for i, card in enumerate(cards):
+    for i, values in enumerate(cards):
         if comment:
-            lines.append(comment_header(name, i))
-        lines.append(format_card(name, i, card))
+            lines.append(head(name, i))
+        lines.append(card(name, i, values))
     return lines
 
 
@@ -117,7 +132,7 @@ def _grid_quads(n_a: int, n_b: int) -> np.ndarray:
 def node_lines(points: np.ndarray, start: int, u: UnitSystem) -> Iterable[str]:
     """*NODE cards for ``points`` [m] numbered from ``start``."""
     for i, (x, y, z) in enumerate(points / u.length):
-        yield format_card("NODE", 0, {"nid": start + i, "x": x, "y": y, "z": z})
+        yield card("NODE", 0, {"nid": start + i, "x": x, "y": y, "z": z})
 
 
 def control_cards(setup: ImpactSetup, u: UnitSystem) -> list[str]:
@@ -184,9 +199,20 @@ def contact_cards(setup: ImpactSetup) -> list[str]:
     )
 
 
-def impact_deck(ball: BallSpec, setup: ImpactSetup, units: str = "in-lbf-s") -> str:
-    """The keyword deck of one ball-impact test, as text."""
-    u = unit_system(units)
+def impact_deck(
+    ball: BallSpec, setup: ImpactSetup, units: str = "in-lbf-s", *, long: bool = False
+) -> str:
+    """The keyword deck of one ball-impact test, as text (``long``: 20-column fields, which keep
+    every real to full double precision; standard 10-column reals keep 5 to 6 digits)."""
+    token = _LONG.set(long)
+    try:
+        return _impact_deck(ball, setup, unit_system(units))
+    finally:
+        _LONG.reset(token)
+
+
+def _impact_deck(ball: BallSpec, setup: ImpactSetup, u: UnitSystem) -> str:
+    """The deck's text, in the format _LONG says."""
     body = ball_body(ball, setup.divisions, setup.contact, setup.time_step_scale)
     target = make_target(setup, ball.radius)
     shell_points, quads = target_shells(target, ball.radius)
@@ -195,18 +221,18 @@ def impact_deck(ball: BallSpec, setup: ImpactSetup, units: str = "in-lbf-s") -> 
     lines += keyword("TITLE", {"title": f"batball {setup.test} ball {ball.name} ({u.name})"})
     lines += control_cards(setup, u) + database_cards(u) + part_cards(setup)
     lines += material_cards(ball, body.density, u) + target_cards(u)
-    lines += ["*NODE", comment_header("NODE", 0)]
+    lines += ["*NODE", head("NODE", 0)]
     lines += node_lines(body.mesh.points, 1, u)
     lines += node_lines(shell_points, TARGET_NODE_START, u)
-    lines += ["*ELEMENT_SOLID", comment_header("ELEMENT_SOLID", 0)]
+    lines += ["*ELEMENT_SOLID", head("ELEMENT_SOLID", 0)]
     for i, cell in enumerate(body.mesh.cells):
         nodes = {f"n{k + 1}": int(n) + 1 for k, n in enumerate(cell)}
-        lines.append(format_card("ELEMENT_SOLID", 0, {"eid": i + 1, "pid": BALL_PART, **nodes}))
-    lines += ["*ELEMENT_SHELL", comment_header("ELEMENT_SHELL", 0)]
+        lines.append(card("ELEMENT_SOLID", 0, {"eid": i + 1, "pid": BALL_PART, **nodes}))
+    lines += ["*ELEMENT_SHELL", head("ELEMENT_SHELL", 0)]
     for i, quad in enumerate(quads):
         nodes = {f"n{k + 1}": int(n) + TARGET_NODE_START for k, n in enumerate(quad)}
         eid = TARGET_ELEMENT_START + i
-        lines.append(format_card("ELEMENT_SHELL", 0, {"eid": eid, "pid": TARGET_PART, **nodes}))
+        lines.append(card("ELEMENT_SHELL", 0, {"eid": eid, "pid": TARGET_PART, **nodes}))
     lines += keyword(
         "INITIAL_VELOCITY_GENERATION",
         {"id": BALL_PART, "styp": 2, "omega": 0.0, "vx": 0.0, "vy": 0.0, "vz": -speed},
@@ -226,14 +252,16 @@ def header_lines(ball: BallSpec, setup: ImpactSetup, u: UnitSystem) -> list[str]
         "$ part 1 = ball (moving along -z), part 2 = rigid target (fixed)",
         "$ CCOR/COR = part 1 z-velocity after separation (MATSUM) / inbound speed;",
         "$ peak force and contact time from RCFORC (1 % of peak); DS = F^2/(m v^2)",
-        "*KEYWORD",
+        "*KEYWORD LONG=Y" if _LONG.get() else "*KEYWORD",
     ]
 
 
-def write_impact_deck(path: str, ball: BallSpec, setup: ImpactSetup, units: str) -> int:
+def write_impact_deck(
+    path: str, ball: BallSpec, setup: ImpactSetup, units: str, *, long: bool = False
+) -> int:
     """Write the deck to ``path``; returns its number of lines."""
     from pathlib import Path
 
-    text = impact_deck(ball, setup, units)
+    text = impact_deck(ball, setup, units, long=long)
     Path(path).write_text(text, encoding="ascii")
     return text.count("\n")
