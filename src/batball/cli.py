@@ -550,9 +550,9 @@ def describe_barrel(s: dict[str, Any]) -> str:
 
 def add_export_parser(sub: Any) -> None:
     """``batball export ccor|cor``: the test as an LS-DYNA keyword deck."""
-    help_text = "write a ball-impact test as a complete LS-DYNA keyword deck (docs/lsdyna.md)"
+    help_text = "write a ball test as a complete LS-DYNA keyword deck (docs/lsdyna.md)"
     p = sub.add_parser("export", help=help_text, description=help_text)
-    p.add_argument("test", choices=["ccor", "cor"], help="the test to export")
+    p.add_argument("test", choices=["ccor", "cor", "compression"], help="the test to export")
     p.add_argument("--ball", default="type1", help="embedded ball (type1, type2) or a TOML file")
     p.add_argument("--speed", default=None, help="inbound speed with its unit (test default)")
     p.add_argument("--divisions", type=int, default=12, help="ball mesh size (default 12)")
@@ -571,12 +571,23 @@ def run_export_command(args: argparse.Namespace) -> int:
     from batball.io.keyword_export import write_impact_deck
     from batball.specs import load_ball_spec
 
-    args.speed = args.speed or DEFAULT_SPEEDS[args.test]
     ball = load_ball_spec(args.ball)
-    setup = impact_setup(args)
+    if args.test == "compression":
+        from batball.lab.compression import CompressionSetup
+        from batball.solvers.explicit import BulkViscosity, HourglassControl
+
+        setup: Any = CompressionSetup(
+            divisions=args.divisions,
+            hourglass=HourglassControl(args.hourglass_type, args.hourglass_coefficient),
+            bulk_viscosity=BulkViscosity(enabled=not args.no_bulk_viscosity),
+        )
+        what = "compression (F1888, 1 in/min to 0.25 in)"
+    else:
+        args.speed = args.speed or DEFAULT_SPEEDS[args.test]
+        setup = impact_setup(args)
+        what = f"{args.test} at {args.speed}"
     n_lines = write_impact_deck(args.output, ball, setup, args.units, long=args.long)
-    print(f"wrote {args.output}: {args.test} of ball {ball.name} at {args.speed}, "
-          f"{n_lines} lines, units {args.units}")  # fmt: skip
+    print(f"wrote {args.output}: {what} of ball {ball.name}, {n_lines} lines, units {args.units}")
     return 0
 
 
@@ -592,6 +603,9 @@ def add_run_deck_parser(sub: Any) -> None:
         help="stop this long after the ball leaves the target ('none' runs to ENDTIM)",
     )
     p.add_argument("--contact-threshold", type=float, default=0.01, help="contact-time level")
+    p.add_argument(
+        "--displacement", default="0.25 in", help="compression decks: where the force is read"
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=run_deck_command)
 
@@ -606,8 +620,12 @@ def run_deck_command(args: argparse.Namespace) -> int:
         if args.separation_time.strip().lower() == "none"
         else parse_quantity(args.separation_time, "time", field="separation-time")
     )
-    deck = read_deck(args.deck, units=args.units, separation_time=separation)
-    update, bar = progress_bar(deck.controls.end_time, enabled=True)
+    displacement = parse_quantity(args.displacement, "length", field="displacement")
+    deck = read_deck(
+        args.deck, units=args.units, separation_time=separation, displacement=displacement
+    )
+    unit = "s" if deck.test == "compression" else "ms"
+    update, bar = progress_bar(deck.controls.end_time, enabled=True, unit=unit)
     try:
         summary = run_deck(deck, threshold=args.contact_threshold, progress=update)
     finally:
@@ -615,6 +633,18 @@ def run_deck_command(args: argparse.Namespace) -> int:
     summary["deck"] = str(args.deck)
     if args.json:
         print(json.dumps(summary, indent=2))
+        return 0
+    if deck.test == "compression":
+        print("\n".join([
+            f"compression of deck {args.deck} at {summary['rate_in_per_min']:.3g} in/min",
+            f"  {'force at ' + format(summary['displacement_in'], '.3g') + ' in':<22} "
+            f"{summary['compression_lbf']:.1f} lbf (power-law fit "
+            f"{summary['compression_fit_lbf']:.1f} lbf)",
+            f"  {'top-bottom difference':<22} "
+            f"{100 * summary['plate_force_difference_fraction']:.2f} %",
+            f"  {'energy balance error':<22} {100 * summary['energy_balance_error']:.2f} %",
+            f"  {summary['n_cells']} hexes, {summary['n_steps']} steps",
+        ]))  # fmt: skip
         return 0
     name = summary["test"].upper()
     print("\n".join([

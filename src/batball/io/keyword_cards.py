@@ -111,6 +111,16 @@ LAYOUTS: dict[str, tuple[tuple[Field, ...], ...]] = {
     # *DATABASE_HISTORY_NODE: ID1..ID8 (pydyna auto/database/database_history_node.py; Altair
     # database_history_node_lsdyna_r)
     "DATABASE_HISTORY_NODE": (_tens(" ".join(f"i:id{i}" for i in range(1, 9))),),
+    # *BOUNDARY_PRESCRIBED_MOTION_RIGID: PID DOF VAD LCID SF VID DEATH BIRTH (pydyna
+    # auto/boundary/boundary_prescribed_motion_rigid.py)
+    "BOUNDARY_PRESCRIBED_MOTION_RIGID": (_tens("i:pid i:dof i:vad i:lcid sf i:vid death birth"),),
+    # *DEFINE_CURVE: LCID SIDR SFA SFO OFFA OFFO DATTYP LCINT / A1 O1 in 20 columns each (pydyna
+    # auto/define/define_curve.py)
+    "DEFINE_CURVE": (_tens("i:lcid i:sidr sfa sfo offa offo i:dattyp i:lcint"),
+                     (("a1", 20, "f"), ("o1", 20, "f"))),
+    # *DAMPING_GLOBAL: LCID VALDMP STX STY STZ SRX SRY SRZ; the force on a node is -VALDMP m v
+    # (pydyna auto/damping/damping_global.py)
+    "DAMPING_GLOBAL": (_tens("i:lcid valdmp stx sty stz srx sry srz"),),
     # *TITLE: one 80-column line (Keyword Manual Vol I, *TITLE)
     "TITLE": ((("title", 80, "s"),),),
     # *INCLUDE: one file name per card, up to 80 columns (Keyword Manual Vol I, *INCLUDE)

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from contextvars import ContextVar
+from typing import Any
 
 import numpy as np
 
@@ -24,6 +25,7 @@ from batball import __version__
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SpecError
 from batball.io.keyword_cards import UnitSystem, comment_header, format_card, unit_system
+from batball.lab.compression import TRAVEL_MARGIN, CompressionSetup, build_compression_model
 from batball.lab.impact import ImpactSetup, ball_body, make_target
 from batball.specs import BallSpec
 
@@ -135,12 +137,13 @@ def node_lines(points: np.ndarray, start: int, u: UnitSystem) -> Iterable[str]:
         yield card("NODE", 0, {"nid": start + i, "x": x, "y": y, "z": z})
 
 
-def control_cards(setup: ImpactSetup, u: UnitSystem) -> list[str]:
-    """*CONTROL_* cards: end time, TSSFAC, hourglass, bulk viscosity and the contact SLSFAC."""
+def control_cards(setup: Any, end_time: float, u: UnitSystem) -> list[str]:
+    """*CONTROL_* cards: end time, TSSFAC, hourglass, bulk viscosity and the contact SLSFAC of a
+    test setup (ImpactSetup or CompressionSetup)."""
     bv = setup.bulk_viscosity
     q1, q2 = (bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)
     return [
-        *keyword("CONTROL_TERMINATION", {"endtim": setup.end_time / u.time}),
+        *keyword("CONTROL_TERMINATION", {"endtim": end_time / u.time}),
         *keyword("CONTROL_TIMESTEP", {"dtinit": 0.0, "tssfac": setup.time_step_scale}),
         *keyword("CONTROL_HOURGLASS", {
             "ihq": setup.hourglass.type, "qh": setup.hourglass.coefficient}),
@@ -149,50 +152,62 @@ def control_cards(setup: ImpactSetup, u: UnitSystem) -> list[str]:
     ]  # fmt: skip
 
 
-def database_cards(u: UnitSystem) -> list[str]:
-    """Histories the measurements need: RCFORC (load cell, 1 us), MATSUM (the ball's momentum
-    and velocity, 1 us), GLSTAT (energies), NODOUT and D3PLOT (fields every 0.1 ms)."""
-    fine, coarse = 1e-6 / u.time, 1e-5 / u.time
+def database_cards(u: UnitSystem, fine: float, coarse: float, plot: float) -> list[str]:
+    """Histories the measurements need, every ``fine`` s: RCFORC (the load cells) and MATSUM (the
+    ball's momentum and velocity); every ``coarse`` s: GLSTAT (energies) and NODOUT; D3PLOT
+    fields every ``plot`` s."""
+    fine, coarse, plot = fine / u.time, coarse / u.time, plot / u.time
     return [
         *keyword("DATABASE_GLSTAT", {"dt": coarse, "binary": 1}),
         *keyword("DATABASE_MATSUM", {"dt": fine, "binary": 1}),
         *keyword("DATABASE_RCFORC", {"dt": fine, "binary": 1}),
         *keyword("DATABASE_NODOUT", {"dt": coarse, "binary": 1}),
-        *keyword("DATABASE_BINARY_D3PLOT", {"dt": 1e-4 / u.time}),
+        *keyword("DATABASE_BINARY_D3PLOT", {"dt": plot}),
     ]
 
 
-def part_cards(setup: ImpactSetup) -> list[str]:
-    """Parts, sections and the *HOURGLASS card of the ball, and the target's *MAT_RIGID."""
+def part_cards(setup: Any, targets: tuple[str, ...]) -> list[str]:
+    """Parts, sections and the *HOURGLASS card of the ball; one rigid part per target (2, 3..)."""
+    rigid = [
+        line
+        for i, name in enumerate(targets)
+        for line in keyword(
+            "PART", {"heading": name}, {"pid": TARGET_PART + i, "secid": 2, "mid": TARGET_PART + i}
+        )
+    ]
     return [
         *keyword("PART", {"heading": "ball"}, {
             "pid": BALL_PART, "secid": 1, "mid": 1, "eosid": 0, "hgid": 1}),
         *keyword("SECTION_SOLID", {"secid": 1, "elform": 1}),
         *keyword("HOURGLASS", {
             "hgid": 1, "ihq": setup.hourglass.type, "qm": setup.hourglass.coefficient}),
-        *keyword("PART", {"heading": f"rigid {setup.test} target"}, {
-            "pid": TARGET_PART, "secid": 2, "mid": 2}),
+        *rigid,
     ]  # fmt: skip
 
 
-def target_cards(u: UnitSystem) -> list[str]:
-    """*SECTION_SHELL and *MAT_RIGID (fixed: CMO 1, CON1 = CON2 = 7) of the target."""
+def target_cards(u: UnitSystem, con1: tuple[float, ...] = (7.0,)) -> list[str]:
+    """*SECTION_SHELL, and a *MAT_RIGID per target (MID 2, 3, ..): CMO 1, rotations fixed
+    (CON2 7), translations by ``con1`` (7 = fixed, 4 = x and y fixed: a platen moving in z)."""
     t = TARGET_THICKNESS / u.length
     e, nu, rho = STEEL
-    return [
-        *keyword("SECTION_SHELL", {"secid": 2, "elform": 2, "shrf": 0.8333, "nip": 2},
-                 {"t1": t, "t2": t, "t3": t, "t4": t}),
-        *keyword("MAT_RIGID", {"mid": 2, "ro": rho / u.density, "e": e / u.pressure, "pr": nu},
-                 {"cmo": 1.0, "con1": 7.0, "con2": 7.0}, {"a1": 0.0}),
-    ]  # fmt: skip
+    lines = keyword("SECTION_SHELL", {"secid": 2, "elform": 2, "shrf": 0.8333, "nip": 2},
+                    {"t1": t, "t2": t, "t3": t, "t4": t})  # fmt: skip
+    for i, c1 in enumerate(con1):
+        lines += keyword(
+            "MAT_RIGID",
+            {"mid": TARGET_PART + i, "ro": rho / u.density, "e": e / u.pressure, "pr": nu},
+            {"cmo": 1.0, "con1": c1, "con2": 7.0},
+            {"a1": 0.0},
+        )
+    return lines
 
 
-def contact_cards(setup: ImpactSetup) -> list[str]:
-    """The ball (SURFA, part) against the target (SURFB, part), frictionless penalty."""
+def contact_cards(setup: Any, target_part: int = TARGET_PART) -> list[str]:
+    """The ball (SURFA, part) against a target (SURFB, part), frictionless penalty."""
     c = setup.contact
     return keyword(
         "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE",
-        {"surfa": BALL_PART, "surfb": TARGET_PART, "surfatyp": 3, "surfbtyp": 3},
+        {"surfa": BALL_PART, "surfb": target_part, "surfatyp": 3, "surfbtyp": 3},
         {"fs": 0.0, "fd": 0.0},
         {"sfsa": c.sfs, "sfsb": 1.0},
         {"soft": c.soft, "sofscl": c.sofscl},
@@ -215,24 +230,13 @@ def _impact_deck(ball: BallSpec, setup: ImpactSetup, u: UnitSystem) -> str:
     """The deck's text, in the format _LONG says."""
     body = ball_body(ball, setup.divisions, setup.contact, setup.time_step_scale)
     target = make_target(setup, ball.radius)
-    shell_points, quads = target_shells(target, ball.radius)
     speed = setup.speed / u.velocity
     lines = header_lines(ball, setup, u)
     lines += keyword("TITLE", {"title": f"batball {setup.test} ball {ball.name} ({u.name})"})
-    lines += control_cards(setup, u) + database_cards(u) + part_cards(setup)
+    lines += control_cards(setup, setup.end_time, u) + database_cards(u, 1e-6, 1e-5, 1e-4)
+    lines += part_cards(setup, (f"rigid {setup.test} target",))
     lines += material_cards(ball, body.density, u) + target_cards(u)
-    lines += ["*NODE", head("NODE", 0)]
-    lines += node_lines(body.mesh.points, 1, u)
-    lines += node_lines(shell_points, TARGET_NODE_START, u)
-    lines += ["*ELEMENT_SOLID", head("ELEMENT_SOLID", 0)]
-    for i, cell in enumerate(body.mesh.cells):
-        nodes = {f"n{k + 1}": int(n) + 1 for k, n in enumerate(cell)}
-        lines.append(card("ELEMENT_SOLID", 0, {"eid": i + 1, "pid": BALL_PART, **nodes}))
-    lines += ["*ELEMENT_SHELL", head("ELEMENT_SHELL", 0)]
-    for i, quad in enumerate(quads):
-        nodes = {f"n{k + 1}": int(n) + TARGET_NODE_START for k, n in enumerate(quad)}
-        eid = TARGET_ELEMENT_START + i
-        lines.append(card("ELEMENT_SHELL", 0, {"eid": eid, "pid": TARGET_PART, **nodes}))
+    lines += mesh_lines(body.mesh.points, body.mesh.cells, [target_shells(target, ball.radius)], u)
     lines += keyword(
         "INITIAL_VELOCITY_GENERATION",
         {"id": BALL_PART, "styp": 2, "omega": 0.0, "vx": 0.0, "vy": 0.0, "vz": -speed},
@@ -241,6 +245,31 @@ def _impact_deck(ball: BallSpec, setup: ImpactSetup, u: UnitSystem) -> str:
     lines += contact_cards(setup)
     lines.append("*END")
     return "\n".join(lines) + "\n"
+
+
+def mesh_lines(
+    points: np.ndarray,
+    cells: np.ndarray,
+    shells: list[tuple[np.ndarray, np.ndarray]],
+    u: UnitSystem,
+) -> list[str]:
+    """*NODE, *ELEMENT_SOLID (ball, part 1, ids from 1) and *ELEMENT_SHELL (target i: part 2 + i,
+    node and element ids from 1,000,001 + 100,000 i)."""
+    lines = ["*NODE", head("NODE", 0), *node_lines(points, 1, u)]
+    for i, (shell_points, _) in enumerate(shells):
+        lines += node_lines(shell_points, TARGET_NODE_START + 100_000 * i, u)
+    lines += ["*ELEMENT_SOLID", head("ELEMENT_SOLID", 0)]
+    for i, cell in enumerate(cells):
+        nodes = {f"n{k + 1}": int(n) + 1 for k, n in enumerate(cell)}
+        lines.append(card("ELEMENT_SOLID", 0, {"eid": i + 1, "pid": BALL_PART, **nodes}))
+    lines += ["*ELEMENT_SHELL", head("ELEMENT_SHELL", 0)]
+    for t, (_, quads) in enumerate(shells):
+        start = TARGET_NODE_START + 100_000 * t
+        for i, quad in enumerate(quads):
+            nodes = {f"n{k + 1}": int(n) + start for k, n in enumerate(quad)}
+            eid = TARGET_ELEMENT_START + 100_000 * t + i
+            lines.append(card("ELEMENT_SHELL", 0, {"eid": eid, "pid": TARGET_PART + t, **nodes}))
+    return lines
 
 
 def header_lines(ball: BallSpec, setup: ImpactSetup, u: UnitSystem) -> list[str]:
@@ -257,11 +286,64 @@ def header_lines(ball: BallSpec, setup: ImpactSetup, u: UnitSystem) -> list[str]
 
 
 def write_impact_deck(
-    path: str, ball: BallSpec, setup: ImpactSetup, units: str, *, long: bool = False
+    path: str, ball: BallSpec, setup: Any, units: str, *, long: bool = False
 ) -> int:
-    """Write the deck to ``path``; returns its number of lines."""
+    """Write the deck of an ImpactSetup or CompressionSetup to ``path``; returns its lines."""
     from pathlib import Path
 
-    text = impact_deck(ball, setup, units, long=long)
+    if isinstance(setup, CompressionSetup):
+        text = compression_deck(ball, setup, units, long=long)
+    else:
+        text = impact_deck(ball, setup, units, long=long)
     Path(path).write_text(text, encoding="ascii")
     return text.count("\n")
+
+
+def compression_deck(
+    ball: BallSpec, setup: CompressionSetup, units: str = "in-lbf-s", *, long: bool = False
+) -> str:
+    """The keyword deck of the F1888 compression test as batball runs it: the mass-scaled ball
+    (RO = s x density, stated in the header) between a fixed bottom plate (part 3) and a top
+    plate (part 2) moving down at the test rate (*BOUNDARY_PRESCRIBED_MOTION_RIGID, velocity,
+    with a constant *DEFINE_CURVE), and batball's mass-proportional damping as *DAMPING_GLOBAL
+    (force -VALDMP m v, the same law)."""
+    token = _LONG.set(long)
+    try:
+        return _compression_deck(ball, setup, unit_system(units))
+    finally:
+        _LONG.reset(token)
+
+
+def _compression_deck(ball: BallSpec, setup: CompressionSetup, u: UnitSystem) -> str:
+    """The compression deck's text."""
+    model, scale, damping = build_compression_model(ball, setup)
+    top, bottom = (c.target for c in model.contacts)
+    end = TRAVEL_MARGIN * setup.displacement / setup.rate
+    shells = [target_shells(top, ball.radius), target_shells(bottom, ball.radius)]
+    lines = [
+        f"$ batball {__version__}: compression (ASTM F1888) of ball '{ball.name}', "
+        f"{setup.divisions} divisions, plate {setup.rate / IN * 60:.6g} in/min",
+        f"$ units {u.name}: {u.description}",
+        f"$ RO is mass-scaled by s = {scale:.6g} (batball quasi-static plan, docs/compression.md)",
+        "$ part 1 = ball, part 2 = top plate (moves -z), part 3 = bottom plate (fixed)",
+        f"$ compression = mean plate force (RCFORC) at {setup.displacement / IN:.6g} in of ball "
+        "deformation (plate travel minus penetrations)",
+        "*KEYWORD LONG=Y" if _LONG.get() else "*KEYWORD",
+        *keyword("TITLE", {"title": f"batball compression ball {ball.name} ({u.name})"}),
+        *control_cards(setup, end, u),
+        *database_cards(u, end / 2000, end / 200, end / 20),
+        *part_cards(setup, ("rigid top plate", "rigid bottom plate")),
+        *material_cards(ball, float(model.densities[0]), u),
+        *target_cards(u, con1=(4.0, 7.0)),
+        *mesh_lines(model.mesh.points, model.mesh.cells, shells, u),
+        *keyword("DEFINE_CURVE", {"lcid": 1}),
+        card("DEFINE_CURVE", 1, {"a1": 0.0, "o1": 1.0}),
+        card("DEFINE_CURVE", 1, {"a1": 2 * end / u.time, "o1": 1.0}),
+        *keyword("BOUNDARY_PRESCRIBED_MOTION_RIGID", {
+            "pid": TARGET_PART, "dof": 3, "vad": 0, "lcid": 1, "sf": -setup.rate / u.velocity}),
+        *keyword("DAMPING_GLOBAL", {"lcid": 0, "valdmp": damping * u.time}),
+        *contact_cards(setup, TARGET_PART),
+        *contact_cards(setup, TARGET_PART + 1),
+        "*END",
+    ]  # fmt: skip
+    return "\n".join(lines) + "\n"

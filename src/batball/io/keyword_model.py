@@ -47,12 +47,13 @@ CARD_COUNTS = {
     "CONTROL_TERMINATION": (1, 1), "CONTROL_TIMESTEP": (1, 1), "CONTROL_HOURGLASS": (1, 1),
     "CONTROL_BULK_VISCOSITY": (1, 1), "CONTROL_CONTACT": (1, 1),
     "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE": (3, 4), "INITIAL_VELOCITY_GENERATION": (2, 2),
-    "TITLE": (1, 1), "DATABASE_GLSTAT": (1, 1), "DATABASE_MATSUM": (1, 1),
+    "TITLE": (1, 1), "DATABASE_GLSTAT": (1, 1), "BOUNDARY_PRESCRIBED_MOTION_RIGID": (1, 1),
+    "DAMPING_GLOBAL": (1, 1), "DATABASE_MATSUM": (1, 1),
     "DATABASE_RCFORC": (1, 1), "DATABASE_NODOUT": (1, 1), "DATABASE_BINARY_D3PLOT": (1, 1),
 }  # fmt: skip
 #: Keywords whose cards repeat (one record per card, or a header card then a list).
 REPEATED = {"NODE", "ELEMENT_SOLID", "ELEMENT_SHELL", "SET_PART_LIST", "SET_NODE_LIST",
-            "DATABASE_HISTORY_NODE"}  # fmt: skip
+            "DATABASE_HISTORY_NODE", "DEFINE_CURVE"}  # fmt: skip
 SUPPORTED = {"KEYWORD", *CARD_COUNTS, *REPEATED}
 
 #: Fields that must be blank or zero because batball has no such feature.
@@ -66,6 +67,8 @@ MUST_BE_ZERO = {
                                              "sbboxid", "lcidab"),
     "INITIAL_VELOCITY_GENERATION": ("omega", "ivatn", "icid"),
     "CONTROL_CONTACT": ("penopt", "thkchg"),
+    "BOUNDARY_PRESCRIBED_MOTION_RIGID": ("vad", "vid", "birth"),
+    "DAMPING_GLOBAL": ("lcid", "stx", "sty", "stz", "srx", "sry", "srz"),
 }  # fmt: skip
 
 
@@ -83,6 +86,8 @@ class Deck:
     controls: dict[str, dict[str, Any]] = field(default_factory=dict)
     contacts: list[dict[str, Any]] = field(default_factory=list)
     velocities: list[dict[str, Any]] = field(default_factory=list)
+    motions: dict[int, dict[str, Any]] = field(default_factory=dict)
+    curves: dict[int, np.ndarray] = field(default_factory=dict)
     part_sets: dict[int, list[int]] = field(default_factory=dict)
     title: str = ""
 
@@ -130,6 +135,8 @@ def _store(deck: Deck, block: KeywordBlock) -> None:
         _store_records(deck, block)
     elif name in ("SET_PART_LIST", "SET_NODE_LIST"):
         _store_set(deck, block)
+    elif name == "DEFINE_CURVE":
+        _store_curve(deck, block)
     else:
         cards = _cards(block)
         merged = {k: v for card in cards for k, v in card.items()}
@@ -155,6 +162,10 @@ def _file_fixed(deck: Deck, name: str, fields: dict[str, Any]) -> None:
         deck.contacts.append(fields)
     elif name == "INITIAL_VELOCITY_GENERATION":
         deck.velocities.append(fields)
+    elif name == "BOUNDARY_PRESCRIBED_MOTION_RIGID":
+        deck.motions[_id(fields, "pid", name)] = fields
+    elif name == "DAMPING_GLOBAL":
+        deck.controls[name] = fields
 
 
 def _id(fields: dict[str, Any], key: str, name: str) -> int:
@@ -225,13 +236,32 @@ def _store_set(deck: Deck, block: KeywordBlock) -> None:
         deck.part_sets[_id({**head, "where": block.where()}, "sid", block.name)] = ids
 
 
+def _store_curve(deck: Deck, block: KeywordBlock) -> None:
+    """*DEFINE_CURVE: LCID and (abscissa, ordinate) points; scale factors and offsets must be
+    their defaults (SFA = SFO = 1, OFFA = OFFO = 0, SIDR = DATTYP = 0)."""
+    cards = [c for c in block.cards if c.text.strip()]
+    if len(cards) < 2:
+        raise SpecError(f"*DEFINE_CURVE at {block.where()}", len(cards), "a header and points")
+    head = split_fields(cards[0], block.name, 0, block.long)
+    for name, default in (("sidr", 0), ("sfa", 1), ("sfo", 1), ("offa", 0), ("offo", 0),
+                          ("dattyp", 0)):  # fmt: skip
+        if head.get(name) not in (None, default, float(default)):
+            raise SpecError(f"*DEFINE_CURVE.{name.upper()} at {block.where()}", head[name],
+                            f"blank or {default}")  # fmt: skip
+    points = [split_fields(c, block.name, 1, block.long) for c in cards[1:]]
+    xy = np.array([[p.get("a1") or 0.0, p.get("o1") or 0.0] for p in points])
+    deck.curves[_id({**head, "where": block.where()}, "lcid", block.name)] = xy
+
+
 @dataclass(frozen=True)
 class DeckModel:
     """A deck read into batball: the model, its run controls, and what the impact measures need.
 
     Attributes:
-        test: "ccor" (the first target is a cylinder) or "cor" (a flat wall).
-        speed: the body's initial speed [m/s]; title: the deck's *TITLE; units: its unit system.
+        test: "ccor" (the first target is a cylinder), "cor" (a flat wall) or "compression" (a
+            moving plate).
+        speed: the body's initial speed, or the plate's for compression [m/s]; title: the
+            deck's *TITLE; units: its unit system; displacement: compression reading point [m].
     """
 
     model: Model
@@ -240,15 +270,22 @@ class DeckModel:
     speed: float
     title: str
     units: str
+    displacement: float = 0.0
 
 
 def read_deck(
-    path: str | Path, *, units: str = "in-lbf-s", separation_time: float | None = 0.1e-3
+    path: str | Path,
+    *,
+    units: str = "in-lbf-s",
+    separation_time: float | None = 0.1e-3,
+    displacement: float = 0.25 * 0.0254,
 ) -> DeckModel:
     """Read the deck at ``path`` (numbers in ``units``) into a :class:`DeckModel`.
 
-    ``separation_time`` is batball's own stopping rule (run on this long after the last contact;
-    None runs to the deck's ENDTIM), which LS-DYNA decks have no field for.
+    ``separation_time`` is batball's own stopping rule for impacts (run on this long after the
+    last contact; None runs to the deck's ENDTIM), which LS-DYNA decks have no field for. A deck
+    with a moving plate is a compression test, read at ``displacement`` of ball deformation
+    (F1888: 0.25 in), and runs to ENDTIM.
     """
     u = unit_system(units)
     deck = parse_deck(path)
@@ -268,9 +305,40 @@ def read_deck(
         contacts=contacts,
         initial_velocity=velocity,
     )
+    moving = [c.target.velocity for c in contacts if c.target.velocity is not None]
+    unused = set(deck.motions) - {
+        pid for c in deck.contacts for pid in (c.get("surfb"), c.get("surfa"))
+    }
+    if unused:
+        raise SpecError("*BOUNDARY_PRESCRIBED_MOTION_RIGID", sorted(unused), "a contact's part")
+    if moving:
+        controls = _compression_controls(controls, model, len(contacts), displacement)
+        speed = float(np.linalg.norm(moving[0]))
+        return DeckModel(model, controls, "compression", speed, deck.title, u.name, displacement)
     speed = float(np.linalg.norm(velocity[0]))
     test = "ccor" if isinstance(contacts[0].target, RigidCylinder) else "cor"
     return DeckModel(model, controls, test, speed, deck.title, u.name)
+
+
+def _compression_controls(
+    controls: ExplicitControls, model: Model, n_contacts: int, displacement: float
+) -> ExplicitControls:
+    """A compression deck's controls: run to ENDTIM, and the energy floor run_compression uses
+    (1 % of the relaxed Hertz estimate of the plates' work)."""
+    import dataclasses
+
+    from batball.lab.compression import relaxed_hertz
+
+    top = model.contacts[0].target
+    if n_contacts != 2 or top.velocity is None or model.contacts[1].target.velocity is not None:
+        raise SpecError("compression deck", f"{n_contacts} contacts",
+                        "two plates, the first (top) moving, the second fixed")  # fmt: skip
+    radius = float(np.linalg.norm(model.mesh.points, axis=1).max())
+    hertz = relaxed_hertz(model.material_constants[0], radius, displacement)[0]
+    return dataclasses.replace(
+        controls, separation_time=None, frame_count=20,
+        energy_floor=0.01 * 0.4 * hertz * displacement,
+    )  # fmt: skip
 
 
 def _solid_mesh(deck: Deck, u: UnitSystem) -> tuple[Mesh, np.ndarray]:
@@ -356,7 +424,9 @@ def _controls(
     q1 = 1.5 if bulk.get("q1") is None else bulk["q1"]
     q2 = 0.06 if bulk.get("q2") is None else bulk["q2"]
     dtmin = term.get("dtmin") or 0.0
+    damping = (c.get("DAMPING_GLOBAL", {}).get("valdmp") or 0.0) / u.time
     return ExplicitControls(
+        mass_damping=damping,
         end_time=term["endtim"] * u.time,
         time_step_scale=step.get("tssfac") or 0.9,
         hourglass=_hourglass(deck, solid_parts),
@@ -462,18 +532,46 @@ def _rigid_target(
     pid = parts[0]
     part = _lookup(deck.parts, pid, "*CONTACT SURFB", "*PART")
     mat = _lookup(deck.materials, part["mid"], f"*PART {pid} MID", "*MAT")
-    if mat["kind"] != "MAT_RIGID" or (mat.get("cmo"), mat.get("con1"), mat.get("con2")) != (
-        1.0, 7.0, 7.0,
-    ):  # fmt: skip
-        raise SpecError(f"*{mat['kind']} at {mat['where']}", "target material",
-                        "*MAT_RIGID fixed in space: CMO 1, CON1 7, CON2 7")  # fmt: skip
+    velocity = _rigid_velocity(deck, pid, mat, u)
     section = _lookup(deck.sections, part["secid"], f"*PART {pid} SECID", "*SECTION_SHELL")
     thickness = _positive(section, "t1") * u.length
     quads = [nodes for _, p, nodes, _ in deck.shells if p == pid]
     if not quads:
         raise SpecError(f"*PART {pid}", "no *ELEMENT_SHELL", "the rigid part's shells")
     xyz = np.array([[deck.nodes[n] for n in q] for q in quads]) * u.length
-    return fit_target(xyz, thickness, mesh.points.mean(axis=0), where=f"rigid part {pid}")
+    target = fit_target(xyz, thickness, mesh.points.mean(axis=0), where=f"rigid part {pid}")
+    if velocity is None:
+        return target
+    if not isinstance(target, RigidPlane):
+        raise SpecError(f"rigid part {pid}", "a moving cylinder", "a moving flat plate")
+    return RigidPlane(point=target.point, normal=target.normal, velocity=velocity)
+
+
+def _rigid_velocity(deck: Deck, pid: int, mat: dict[str, Any], u: UnitSystem) -> np.ndarray | None:
+    """None for a fixed rigid part (CMO 1, CON1 = CON2 = 7); the velocity [m/s] of a part that
+    moves along z at a constant speed (CON1 4, CON2 7 and *BOUNDARY_PRESCRIBED_MOTION_RIGID DOF 3,
+    VAD 0 on a constant curve). Anything else is a SpecError."""
+    fixed = (mat.get("cmo"), mat.get("con1"), mat.get("con2")) == (1.0, 7.0, 7.0)
+    sliding = (mat.get("cmo"), mat.get("con1"), mat.get("con2")) == (1.0, 4.0, 7.0)
+    motion = deck.motions.get(pid)
+    if mat["kind"] != "MAT_RIGID" or not (fixed or sliding) or fixed == (motion is not None):
+        raise SpecError(
+            f"*{mat['kind']} at {mat['where']}", f"rigid part {pid}",
+            "*MAT_RIGID fixed (CMO 1, CON1 7, CON2 7), or moving in z (CON1 4, CON2 7) with a "
+            "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
+        )  # fmt: skip
+    if motion is None:
+        return None
+    where = f"*BOUNDARY_PRESCRIBED_MOTION_RIGID at {motion['where']}"
+    if motion.get("dof") != 3 or (motion.get("death") or 1e28) < 1e27:
+        raise SpecError(where, (motion.get("dof"), motion.get("death")), "DOF 3, no DEATH")
+    curve = _lookup({k: {"c": v} for k, v in deck.curves.items()}, motion.get("lcid"), where,
+                    "*DEFINE_CURVE")["c"]  # fmt: skip
+    end = deck.controls["CONTROL_TERMINATION"]["endtim"]
+    if np.ptp(curve[:, 1]) > 0 or curve[:, 0].min() > 0 or curve[:, 0].max() < end:
+        raise SpecError(where, "LCID curve", "a constant curve over 0..ENDTIM (constant speed)")
+    speed = (1.0 if motion.get("sf") is None else motion["sf"]) * curve[0, 1]
+    return np.array([0.0, 0.0, speed * u.velocity])
 
 
 def fit_target(
@@ -516,9 +614,11 @@ def fit_target(
 def run_deck(
     deck: DeckModel, *, threshold: float = 0.01, progress: Callable[[float], None] | None = None
 ) -> dict[str, Any]:
-    """Run a deck read by :func:`read_deck` as an impact test; the summary names its units."""
+    """Run a deck read by :func:`read_deck` as its test; the summary names its units."""
     from batball.lab.impact import run_impact_model
 
+    if deck.test == "compression":
+        return run_compression_deck(deck, progress=progress)
     run, _, m = run_impact_model(deck.model, deck.controls, threshold, progress=progress)
     kinetic0 = 0.5 * run.mass * deck.speed**2
     lbf, mph = 4.4482216152605, 0.44704
@@ -535,5 +635,31 @@ def run_deck(
         "n_cells": deck.model.mesh.n_cells,
         "n_steps": len(run.time),
         "energy_balance_error": float(np.abs(run.energies[:, BALANCE]).max() / kinetic0),
+        "wall_seconds": run.wall_seconds,
+    }
+
+
+def run_compression_deck(
+    deck: DeckModel, *, samples: int = 201, progress: Callable[[float], None] | None = None
+) -> dict[str, Any]:
+    """Run a compression deck and read it as :func:`batball.lab.compression.run_compression`."""
+    from batball.lab.compression import power_law_reading, run_compression_model
+
+    run, grid, force, difference, _, ratio, error = run_compression_model(
+        deck.model, deck.controls, deck.speed, deck.displacement, samples, progress=progress
+    )
+    lbf = 4.4482216152605
+    return {
+        "test": "compression",
+        "title": deck.title,
+        "compression_lbf": float(force[-1]) / lbf,
+        "compression_fit_lbf": power_law_reading(grid, force, deck.displacement) / lbf,
+        "displacement_in": deck.displacement / 0.0254,
+        "rate_in_per_min": deck.speed / 0.0254 * 60.0,
+        "plate_force_difference_fraction": float(abs(difference[-1]) / max(force[-1], 1e-300)),
+        "kinetic_to_internal_energy": ratio,
+        "energy_balance_error": error,
+        "n_cells": deck.model.mesh.n_cells,
+        "n_steps": len(run.time),
         "wall_seconds": run.wall_seconds,
     }

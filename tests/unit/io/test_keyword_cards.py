@@ -187,3 +187,36 @@ def test_title_and_target_geometry(deck: dict[str, list[list[str]]]) -> None:
     axis_z = target.axis_point[2] / IN
     radius = np.hypot(shell[:, 1], shell[:, 2] - axis_z)
     np.testing.assert_allclose(radius, 2.63 / 2 - 0.025, rtol=1e-9)
+
+
+def test_compression_keywords_columns() -> None:
+    """The compression deck's own keywords: *DEFINE_CURVE (header in 10 columns, points in two
+    20-column fields), *BOUNDARY_PRESCRIBED_MOTION_RIGID, *DAMPING_GLOBAL, and the moving
+    plate's *MAT_RIGID (CON1 4: x, y fixed)."""
+    from batball.io.keyword_export import compression_deck
+    from batball.lab.compression import CompressionSetup, build_compression_model
+
+    ball = load_ball_spec("type1")
+    setup = CompressionSetup(divisions=2)
+    text = compression_deck(ball, setup)
+    blocks: dict[str, list[list[str]]] = {}
+    current: list[str] = []
+    for line in text.splitlines():
+        if line.startswith("*"):
+            current = []
+            blocks.setdefault(line[1:].strip(), []).append(current)
+        elif not line.startswith("$"):
+            current.append(line)
+    header, *points = blocks["DEFINE_CURVE"][0]
+    assert int(read(header, tens("lcid", "sidr", "sfa", "sfo"))["lcid"]) == 1
+    for p in points:
+        assert num(read(p, {"a1": (1, 20), "o1": (21, 40)})["o1"]) == 1.0
+    f = read(blocks["BOUNDARY_PRESCRIBED_MOTION_RIGID"][0][0],
+             tens("pid", "dof", "vad", "lcid", "sf", "vid", "death", "birth"))  # fmt: skip
+    assert [int(f[k]) for k in ("pid", "dof", "vad", "lcid")] == [2, 3, 0, 1]
+    assert num(f["sf"]) == pytest.approx(-1.0 / 60.0, rel=1e-4)  # 1 in/min in in/s
+    _, _, damping = build_compression_model(ball, setup)
+    d = read(blocks["DAMPING_GLOBAL"][0][0], tens("lcid", "valdmp", "stx", "sty", "stz"))
+    assert (int(d["lcid"]), num(d["valdmp"])) == (0, pytest.approx(damping, rel=1e-4))
+    top = read(blocks["MAT_RIGID"][0][1], tens("cmo", "con1", "con2"))
+    assert [num(top[k]) for k in ("cmo", "con1", "con2")] == [1.0, 4.0, 7.0]
