@@ -518,13 +518,21 @@ def _contacts(
         density = float(densities.max())
         first_dt = estimate_first_step(mesh, constants[0], density) * controls.time_step_scale
         nodes, k = ball_contact_stiffness(mesh, float(constants[0, 0]), density, options, first_dt)
-        target = _rigid_target(deck, rigid, mesh, u)
+        for name in ("sfsat", "sfsbt"):
+            if c.get(name) not in (None, 1.0):
+                raise SpecError(f"*CONTACT.{name.upper()} at {c['where']}", c[name], "blank or 1")
+        # SAST/SBST: an explicit contact thickness of the rigid side replaces its shell thickness
+        override = c.get("sbst" if rigid is b else "sast") or 0.0
+        if c.get("sast" if rigid is b else "sbst"):
+            raise SpecError(f"*CONTACT at {c['where']}", "a solid-side contact thickness",
+                            "blank (solids have no contact thickness)")  # fmt: skip
+        target = _rigid_target(deck, rigid, mesh, u, override * u.length)
         out.append(RigidContact(f"contact {len(out) + 1}", target, nodes, k))
     return tuple(out)
 
 
 def _rigid_target(
-    deck: Deck, parts: list[int], mesh: Mesh, u: UnitSystem
+    deck: Deck, parts: list[int], mesh: Mesh, u: UnitSystem, contact_thickness: float = 0.0
 ) -> RigidPlane | RigidCylinder:
     """batball's analytic target from one fixed *MAT_RIGID shell part (see the module notes)."""
     if len(parts) != 1:
@@ -534,7 +542,9 @@ def _rigid_target(
     mat = _lookup(deck.materials, part["mid"], f"*PART {pid} MID", "*MAT")
     velocity = _rigid_velocity(deck, pid, mat, u)
     section = _lookup(deck.sections, part["secid"], f"*PART {pid} SECID", "*SECTION_SHELL")
-    thickness = _positive(section, "t1") * u.length
+    if section["kind"] != "SECTION_SHELL":
+        raise SpecError(f"*PART {pid} SECID", section["kind"], "a *SECTION_SHELL (rigid shells)")
+    thickness = contact_thickness or _positive(section, "t1") * u.length
     quads = [nodes for _, p, nodes, _ in deck.shells if p == pid]
     if not quads:
         raise SpecError(f"*PART {pid}", "no *ELEMENT_SHELL", "the rigid part's shells")

@@ -165,3 +165,19 @@ def test_free_format_deck_reads_like_the_fixed_one(tmp_path: Path) -> None:
     wall = make_target(ImpactSetup("cor", 60 * MPH), load_ball_spec("type1").radius)
     assert plane_free.point[2] == pytest.approx(wall.point[2], rel=1e-12)
     np.testing.assert_allclose(plane_free.normal, wall.normal, atol=1e-12)
+
+
+def test_contact_thickness_override_moves_the_face(tmp_path: Path) -> None:
+    """SBST (the rigid side's contact thickness) replaces the shell thickness: the wall face
+    moves by (SBST - t) / 2 toward the ball (Keyword Manual, *CONTACT card 3)."""
+    text = impact_deck(load_ball_spec("type1"), ImpactSetup("cor", 60 * MPH, divisions=2))
+    lines = text.splitlines()
+    i = next(k for k, line in enumerate(lines) if line.startswith("*CONTACT_AUTOMATIC"))
+    card3 = i + 6  # keyword, $# + card 1, $# + card 2, $# + card 3
+    assert lines[card3].split()[:2] == ["1.0", "1.0"]
+    lines[card3] = lines[card3].ljust(30) + "0.25".rjust(10)  # SBST = 0.25 in, columns 31-40
+    plain = read_deck(write(tmp_path, "a.k", text)).model.contacts[0].target
+    thick = read_deck(write(tmp_path, "b.k", "\n".join(lines) + "\n")).model.contacts[0].target
+    assert isinstance(plain, RigidPlane) and isinstance(thick, RigidPlane)
+    shift = (thick.point - plain.point)[2] / 0.0254
+    assert shift == pytest.approx((0.25 - 0.05) / 2, rel=1e-9)
