@@ -75,10 +75,10 @@ def test_cli_run_reports_an_unsupported_keyword(
 ) -> None:
     """A deck with a keyword batball does not read exits 2 naming it and its line."""
     deck = tmp_path / "bad.k"
-    deck.write_text("*KEYWORD\n*NODE\n1,0,0,0\n*DAMPING_GLOBAL\n0,0.1\n*END\n")
+    deck.write_text("*KEYWORD\n*NODE\n1,0,0,0\n*DAMPING_PART_MASS\n1,0\n*END\n")
     assert main(["run", str(deck)]) == 2
     err = capsys.readouterr().err
-    assert "*DAMPING_GLOBAL" in err and "bad.k:4" in err
+    assert "*DAMPING_PART_MASS" in err and "bad.k:4" in err
 
 
 @pytest.mark.parametrize(

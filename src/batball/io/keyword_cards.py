@@ -164,6 +164,15 @@ class UnitSystem:
         """SI size of the velocity unit [m/s]."""
         return self.length / self.time
 
+    def size(self, dimension: str) -> float:
+        """SI size of this system's unit of a material parameter's ``dimension``."""
+        sizes = {"pressure": self.pressure, "frequency": 1.0 / self.time, "density": self.density,
+                 "dimensionless": 1.0, "length": self.length, "time": self.time,
+                 "velocity": self.velocity}  # fmt: skip
+        if dimension not in sizes:
+            raise SpecError("parameter dimension", dimension, f"one of {sorted(sizes)}")
+        return sizes[dimension]
+
 
 #: The unit systems a deck may be written or read in (in-lbf-s is the seed's Table 4 system).
 UNIT_SYSTEMS = {

@@ -24,7 +24,13 @@ import numpy as np
 from batball import __version__
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SpecError
-from batball.io.keyword_cards import UnitSystem, comment_header, format_card, unit_system
+from batball.io.keyword_cards import (
+    LAYOUTS,
+    UnitSystem,
+    comment_header,
+    format_card,
+    unit_system,
+)
 from batball.lab.compression import TRAVEL_MARGIN, CompressionSetup, build_compression_model
 from batball.lab.impact import ImpactSetup, ball_body, make_target
 from batball.specs import BallSpec
@@ -65,21 +71,19 @@ def keyword(name: str, *cards: dict[str, object], comment: bool = True) -> list[
 
 
 def material_cards(ball: BallSpec, density: float, u: UnitSystem) -> list[str]:
-    """The ball's *MAT card (MID 1) in units ``u``."""
-    values = ball.material.values
-    ro = density / u.density
-    if ball.material.law == "mat006":
-        return keyword("MAT_VISCOELASTIC", {
-            "mid": 1, "ro": ro, "bulk": values["bulk_modulus"] / u.pressure,
-            "g0": values["g0"] / u.pressure, "gi": values["g_inf"] / u.pressure,
-            "beta": values["beta"] * u.time,
-        })  # fmt: skip
-    if ball.material.law == "elastic":
-        return keyword("MAT_ELASTIC", {
-            "mid": 1, "ro": ro, "e": values["youngs_modulus"] / u.pressure,
-            "pr": values["poissons_ratio"],
-        })  # fmt: skip
-    raise SpecError("material.law", ball.material.law, "mat006 or elastic for a keyword export")
+    """The ball's *MAT card (MID 1) in units ``u``, driven by the law's declaration: its
+    ``lsdyna_keyword`` names the card and each parameter's ``lsdyna_field`` its field."""
+    law = ball.material.material_law
+    name = law.lsdyna_keyword.lstrip("*")
+    if name not in LAYOUTS:
+        raise SpecError(
+            "material.law", ball.material.law,
+            f"a law whose keyword batball writes ({law.lsdyna_keyword} is not one yet)",
+        )  # fmt: skip
+    values: dict[str, object] = {"mid": 1, "ro": density / u.density}
+    for p in law.parameters:
+        values[p.lsdyna_field.lower()] = ball.material.values[p.name] / u.size(p.dimension)
+    return keyword(name, values)
 
 
 def target_shells(

@@ -374,22 +374,21 @@ def _materials(
 
 
 def _kernel_constants(mat: dict[str, Any], u: UnitSystem) -> np.ndarray:
-    """K, G0, G_inf [Pa], beta [1/s] of a *MAT_VISCOELASTIC or *MAT_ELASTIC card."""
+    """The hex kernel's constants [SI] of the *MAT card of a registered law (the law whose
+    ``lsdyna_keyword`` is the card; each parameter read from its ``lsdyna_field``, blank = 0)."""
     from batball.materials import MATERIAL_LAWS
 
-    if mat["kind"] == "MAT_VISCOELASTIC":
-        values = {"bulk_modulus": _positive(mat, "bulk") * u.pressure,
-                  "g0": _positive(mat, "g0") * u.pressure,
-                  "g_inf": (mat.get("gi") or 0.0) * u.pressure,
-                  "beta": _positive(mat, "beta") / u.time}  # fmt: skip
-        law = MATERIAL_LAWS["mat006"]
-    elif mat["kind"] == "MAT_ELASTIC":
-        values = {"youngs_modulus": _positive(mat, "e") * u.pressure,
-                  "poissons_ratio": mat.get("pr") or 0.0}  # fmt: skip
-        law = MATERIAL_LAWS["elastic"]
-    else:
-        raise SpecError(f"*{mat['kind']} at {mat['where']}", "on a solid part",
-                        "*MAT_VISCOELASTIC or *MAT_ELASTIC for hexes")  # fmt: skip
+    laws = [law for law in MATERIAL_LAWS.values() if law.lsdyna_keyword == f"*{mat['kind']}"]
+    if not laws:
+        raise SpecError(
+            f"*{mat['kind']} at {mat['where']}", "on a solid part",
+            "*MAT_VISCOELASTIC or *MAT_ELASTIC for hexes",
+        )  # fmt: skip
+    law = laws[0]
+    values = {
+        p.name: (mat.get(p.lsdyna_field.lower()) or 0.0) * u.size(p.dimension)
+        for p in law.parameters
+    }
     law.check(values, prefix=f"*{mat['kind']} at {mat['where']}")
     return law.kernel_constants(values)
 

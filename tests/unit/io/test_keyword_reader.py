@@ -181,3 +181,48 @@ def test_contact_thickness_override_moves_the_face(tmp_path: Path) -> None:
     assert isinstance(plain, RigidPlane) and isinstance(thick, RigidPlane)
     shift = (thick.point - plain.point)[2] / 0.0254
     assert shift == pytest.approx((0.25 - 0.05) / 2, rel=1e-9)
+
+
+def test_elastic_ball_is_written_as_mat_001_and_read_back(tmp_path: Path) -> None:
+    """An elastic ball goes out as *MAT_ELASTIC (E in psi, PR) and comes back with the kernel
+    constants K = E / (3 (1 - 2 nu)), G = E / (2 (1 + nu)) of the typed E = 10,000 psi, nu = 0.45."""
+    from batball.specs import ball_spec_from_dict
+
+    ball = ball_spec_from_dict(
+        {
+            "name": "elastic",
+            "circumference": "12 in",
+            "mass": "6.93 oz",
+            "material": {"law": "elastic", "youngs_modulus": "10000 psi", "poissons_ratio": 0.45},
+        },
+        source="keyword test",
+    )
+    text = impact_deck(ball, ImpactSetup("cor", 60 * MPH, divisions=2))
+    assert "*MAT_ELASTIC" in text and "*MAT_VISCOELASTIC" not in text
+    constants = read_deck(write(tmp_path, "e.k", text)).model.material_constants[0]
+    psi = 4.4482216152605 / 0.0254**2
+    e, nu = 10000 * psi, 0.45
+    np.testing.assert_allclose(
+        constants, [e / (3 * (1 - 2 * nu)), e / (2 * (1 + nu)), e / (2 * (1 + nu)), 0.0], rtol=1e-9
+    )
+
+
+def test_prony_ball_is_refused_with_its_keyword() -> None:
+    """A generalised viscoelastic ball (MAT_GENERAL_VISCOELASTIC) is not written yet: a clear
+    error, not a deck with the wrong material."""
+    from batball.specs import ball_spec_from_dict
+
+    ball = ball_spec_from_dict(
+        {
+            "name": "prony",
+            "circumference": "12 in",
+            "mass": "6.93 oz",
+            "material": {
+                "law": "prony2", "bulk_modulus": "800000 psi", "g_inf": "750 psi",
+                "g1": "20000 psi", "beta1": "75000 1/s", "g2": "1000 psi", "beta2": "1000 1/s",
+            },
+        },
+        source="keyword test",
+    )  # fmt: skip
+    with pytest.raises(SpecError, match="MAT_GENERAL_VISCOELASTIC"):
+        impact_deck(ball, ImpactSetup("cor", 60 * MPH, divisions=2))
