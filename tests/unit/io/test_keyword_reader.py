@@ -185,7 +185,7 @@ def test_contact_thickness_override_moves_the_face(tmp_path: Path) -> None:
 
 def test_elastic_ball_is_written_as_mat_001_and_read_back(tmp_path: Path) -> None:
     """An elastic ball goes out as *MAT_ELASTIC (E in psi, PR) and comes back with the kernel
-    constants K = E / (3 (1 - 2 nu)), G = E / (2 (1 + nu)) of the typed E = 10,000 psi, nu = 0.45."""
+    constants K = E / (3 (1 - 2 nu)), G = E / (2 (1 + nu)) of E = 10,000 psi, nu = 0.45."""
     from batball.specs import ball_spec_from_dict
 
     ball = ball_spec_from_dict(
