@@ -316,6 +316,11 @@ def read_deck(
         speed = float(np.linalg.norm(moving[0]))
         return DeckModel(model, controls, "compression", speed, deck.title, u.name, displacement)
     speed = float(np.linalg.norm(velocity[0]))
+    if not speed > 0 or np.abs(velocity - velocity[0]).max() > 1e-12 * speed:
+        raise SpecError(
+            "*INITIAL_VELOCITY_GENERATION", "none or not the same on every ball node",
+            "one velocity of the whole ball (impact) or a moving plate (compression)",
+        )  # fmt: skip
     test = "ccor" if isinstance(contacts[0].target, RigidCylinder) else "cor"
     return DeckModel(model, controls, test, speed, deck.title, u.name)
 
@@ -468,7 +473,7 @@ def _initial_velocity(deck: Deck, mesh: Mesh, node_ids: np.ndarray, u: UnitSyste
     velocity = np.zeros((mesh.n_points, 3))
     index = {int(n): i for i, n in enumerate(node_ids)}
     for gen in deck.velocities:
-        styp = {1: 2, 2: 3}.get(gen.get("styp") or 2)
+        styp = {1: 2, 2: 3}.get(gen.get("styp"))  # type: ignore[arg-type]
         if styp is None:
             raise SpecError(f"*INITIAL_VELOCITY_GENERATION.STYP at {gen['where']}", gen["styp"],
                             "1 (part set) or 2 (part)")  # fmt: skip

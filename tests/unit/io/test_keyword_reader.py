@@ -226,3 +226,13 @@ def test_prony_ball_is_refused_with_its_keyword() -> None:
     )  # fmt: skip
     with pytest.raises(SpecError, match="MAT_GENERAL_VISCOELASTIC"):
         impact_deck(ball, ImpactSetup("cor", 60 * MPH, divisions=2))
+
+
+def test_deck_without_initial_velocity_or_moving_plate_is_refused(tmp_path: Path) -> None:
+    text = impact_deck(load_ball_spec("type1"), ImpactSetup("cor", 60 * MPH, divisions=2))
+    lines = text.splitlines()
+    i = lines.index("*INITIAL_VELOCITY_GENERATION")
+    del lines[i : i + 5]  # the keyword, two cards and their $# lines
+    assert lines[i].startswith("*CONTACT")
+    with pytest.raises(SpecError, match="INITIAL_VELOCITY_GENERATION"):
+        read_deck(write(tmp_path, "v.k", "\n".join(lines) + "\n"))
