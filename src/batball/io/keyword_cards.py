@@ -60,7 +60,8 @@ LAYOUTS: dict[str, tuple[tuple[Field, ...], ...]] = {
     # *MAT_VISCOELASTIC (006): MID RO BULK G0 GI BETA (pydyna auto/mat/mat_viscoelastic.py)
     "MAT_VISCOELASTIC": (_tens("i:mid ro bulk g0 gi beta"),),
     # *MAT_RIGID (020): MID RO E PR N COUPLE M ALIAS / CMO CON1 CON2 / LCO-or-A1 A2 A3 V1 V2 V3
-    # (pydyna auto/mat/mat_rigid.py)
+    # (pydyna auto/mat/mat_rigid.py and mat_020.py; newer manuals add SPCNID XSPC YSPC ZSPC to
+    # card 2, which batball does not read: text there is an error)
     "MAT_RIGID": (_tens("i:mid ro e pr n couple m alias"), _tens("cmo con1 con2"),
                   _tens("a1 a2 a3 v1 v2 v3")),
     # *HOURGLASS: HGID IHQ QM IBQ Q1 Q2 QB QW (pydyna auto/hourglass/hourglass.py)

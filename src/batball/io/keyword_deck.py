@@ -126,6 +126,11 @@ def split_fields(card: CardLine, keyword: str, index: int, long: bool) -> dict[s
             w = LONG_WIDTH if long and kind != "s" else width
             pieces.append(card.text[start : start + w].strip())
             start += w
+        if card.text[start:].strip():
+            raise SpecError(
+                f"*{keyword} at {card.where()}", card.text[start:].strip(),
+                f"nothing after column {start} (fields {', '.join(n for n, _, _ in layout)})",
+            )  # fmt: skip
     values: dict[str, object] = {}
     for (name, _, kind), text in zip(layout, pieces, strict=False):
         values[name] = _convert(text, kind, keyword, name, card)

@@ -236,3 +236,12 @@ def test_deck_without_initial_velocity_or_moving_plate_is_refused(tmp_path: Path
     assert lines[i].startswith("*CONTACT")
     with pytest.raises(SpecError, match="INITIAL_VELOCITY_GENERATION"):
         read_deck(write(tmp_path, "v.k", "\n".join(lines) + "\n"))
+
+
+def test_text_beyond_a_cards_fields_is_an_error(tmp_path: Path) -> None:
+    """A fixed-format card with text past its last field (e.g. MAT_RIGID card 2's SPCNID, which
+    batball does not read) is refused, not cut off."""
+    card2 = "       1.0       7.0       7.0        12"
+    path = write(tmp_path, "r.k", f"*KEYWORD\n*MAT_RIGID\n2,7.8e-4,3e7,0.3\n{card2}\n0.0\n")
+    with pytest.raises(SpecError, match=r"\*MAT_RIGID at .*r\.k:4.*nothing after column 30"):
+        parse_deck(path)
