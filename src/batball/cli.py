@@ -70,6 +70,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_compression_parser(sub)
     add_calibrate_parser(sub)
     add_barrel_parser(sub)
+    add_export_parser(sub)
+    add_run_deck_parser(sub)
     return parser
 
 
@@ -541,6 +543,122 @@ def describe_barrel(s: dict[str, Any]) -> str:
         f"{s['interference_pressure_thin_ring_psi']:.1f} psi)",
         f"  {s['n_shells']} shells, {s['wall_seconds']:.1f} s, results in {s['run_folder']}",
     ])  # fmt: skip
+
+
+# --- batball export / batball run (LS-DYNA keyword decks) -----------------------------------------
+
+
+def add_export_parser(sub: Any) -> None:
+    """``batball export ccor|cor``: the test as an LS-DYNA keyword deck."""
+    help_text = "write a ball test as a complete LS-DYNA keyword deck (docs/lsdyna.md)"
+    p = sub.add_parser("export", help=help_text, description=help_text)
+    p.add_argument("test", choices=["ccor", "cor", "compression"], help="the test to export")
+    p.add_argument("--ball", default="type1", help="embedded ball (type1, type2) or a TOML file")
+    p.add_argument("--speed", default=None, help="inbound speed with its unit (test default)")
+    p.add_argument("--divisions", type=int, default=12, help="ball mesh size (default 12)")
+    p.add_argument("--hourglass-type", type=int, default=1, help="LS-DYNA IHQ 1-5 (default 1)")
+    p.add_argument("--hourglass-coefficient", type=float, default=0.1, help="QH/QM (0.1)")
+    p.add_argument("--no-bulk-viscosity", action="store_true", help="Q1 = Q2 = 0")
+    p.add_argument("--soft", type=int, default=0, help="contact SOFT option, 0 or 1 (default 0)")
+    p.add_argument("--units", default="in-lbf-s", help="in-lbf-s (default), m-N-s or mm-N-ms")
+    p.add_argument("--long", action="store_true", help="long format: 20-column fields")
+    p.add_argument("-o", "--output", required=True, help="the deck file to write (.k)")
+    p.set_defaults(handler=run_export_command, contact_threshold=0.01)
+
+
+def run_export_command(args: argparse.Namespace) -> int:
+    """Write the deck and say where."""
+    from batball.io.keyword_export import write_impact_deck
+    from batball.specs import load_ball_spec
+
+    ball = load_ball_spec(args.ball)
+    if args.test == "compression":
+        from batball.lab.compression import CompressionSetup
+        from batball.solvers.explicit import BulkViscosity, HourglassControl
+
+        setup: Any = CompressionSetup(
+            divisions=args.divisions,
+            hourglass=HourglassControl(args.hourglass_type, args.hourglass_coefficient),
+            bulk_viscosity=BulkViscosity(enabled=not args.no_bulk_viscosity),
+        )
+        what = "compression (F1888, 1 in/min to 0.25 in)"
+    else:
+        args.speed = args.speed or DEFAULT_SPEEDS[args.test]
+        setup = impact_setup(args)
+        what = f"{args.test} at {args.speed}"
+    n_lines = write_impact_deck(args.output, ball, setup, args.units, long=args.long)
+    print(f"wrote {args.output}: {what} of ball {ball.name}, {n_lines} lines, units {args.units}")
+    return 0
+
+
+def add_run_deck_parser(sub: Any) -> None:
+    """``batball run deck.k``: read a keyword deck and run it as an impact test."""
+    help_text = "read an LS-DYNA keyword deck (ball hexes + rigid target) and run it"
+    p = sub.add_parser("run", help=help_text, description=help_text)
+    p.add_argument("deck", type=Path, help="the keyword file (*INCLUDEs are followed)")
+    p.add_argument("--units", default="in-lbf-s", help="the deck's units (default in-lbf-s)")
+    p.add_argument(
+        "--separation-time",
+        default="0.1 ms",
+        help="stop this long after the ball leaves the target ('none' runs to ENDTIM)",
+    )
+    p.add_argument("--contact-threshold", type=float, default=0.01, help="contact-time level")
+    p.add_argument(
+        "--displacement", default="0.25 in", help="compression decks: where the force is read"
+    )
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(handler=run_deck_command)
+
+
+def run_deck_command(args: argparse.Namespace) -> int:
+    """Read, run and report a deck with the impact measurements."""
+    from batball.io.keyword_model import read_deck, run_deck
+    from batball.units import parse_quantity
+
+    separation = (
+        None
+        if args.separation_time.strip().lower() == "none"
+        else parse_quantity(args.separation_time, "time", field="separation-time")
+    )
+    displacement = parse_quantity(args.displacement, "length", field="displacement")
+    deck = read_deck(
+        args.deck, units=args.units, separation_time=separation, displacement=displacement
+    )
+    unit = "s" if deck.test == "compression" else "ms"
+    update, bar = progress_bar(deck.controls.end_time, enabled=True, unit=unit)
+    try:
+        summary = run_deck(deck, threshold=args.contact_threshold, progress=update)
+    finally:
+        bar.close()
+    summary["deck"] = str(args.deck)
+    if args.json:
+        print(json.dumps(summary, indent=2))
+        return 0
+    if deck.test == "compression":
+        print("\n".join([
+            f"compression of deck {args.deck} at {summary['rate_in_per_min']:.3g} in/min",
+            f"  {'force at ' + format(summary['displacement_in'], '.3g') + ' in':<22} "
+            f"{summary['compression_lbf']:.1f} lbf (power-law fit "
+            f"{summary['compression_fit_lbf']:.1f} lbf)",
+            f"  {'top-bottom difference':<22} "
+            f"{100 * summary['plate_force_difference_fraction']:.2f} %",
+            f"  {'energy balance error':<22} {100 * summary['energy_balance_error']:.2f} %",
+            f"  {summary['n_cells']} hexes, {summary['n_steps']} steps",
+        ]))  # fmt: skip
+        return 0
+    name = summary["test"].upper()
+    print("\n".join([
+        f"{name} of deck {args.deck} ({summary['ball_mass_oz']:.2f} oz) "
+        f"at {summary['inbound_mph']:.1f} mph",
+        f"  {name:<22} {summary[summary['test']]:.3f}",
+        f"  {'rebound speed':<22} {summary['rebound_mph']:.1f} mph",
+        f"  {'dynamic stiffness':<22} {summary['ds_lbf_per_in']:.0f} lb/in",
+        f"  {'peak force':<22} {summary['peak_force_lbf']:.0f} lbf",
+        f"  {'contact time':<22} {summary['contact_time_ms']:.3f} ms",
+        f"  {'energy balance error':<22} {100 * summary['energy_balance_error']:.2f} %",
+        f"  {summary['n_cells']} hexes, {summary['n_steps']} steps",
+    ]))  # fmt: skip
+    return 0
 
 
 def main(argv: Sequence[str] | None = None) -> int:

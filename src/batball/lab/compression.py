@@ -229,24 +229,9 @@ def run_compression(
         # 1 % of the Hertz estimate of the plates' work, the integral of F ~ d^1.5: 0.4 F d
         energy_floor=0.01 * 0.4 * hertz_force * setup.displacement,
     )
-    run = run_explicit(model, controls, progress=progress)
-    sunk = run.penetration.sum(axis=1)
-    deformation = np.maximum.accumulate(setup.rate * run.time - sunk)
-    if deformation[-1] < setup.displacement:
-        raise SimulationError(
-            f"the ball deformed only {deformation[-1] / IN:.4f} in after "
-            f"{setup.rate * run.time[-1] / IN:.4f} in of plate travel: the contact penalty lets "
-            f"it sink {sunk[-1] / IN:.4f} in into the plates; raise the contact scale (SFS)"
-        )
-    top = run.reaction[:, 0, 2]
-    bottom = -run.reaction[:, 1, 2]
-    grid = np.linspace(0.0, setup.displacement, setup.samples)
-    force = np.interp(grid, deformation, 0.5 * (top + bottom))
-    difference = np.interp(grid, deformation, top - bottom)
-    at_end = int(np.searchsorted(deformation, setup.displacement))
-    energies = run.energies[-1]
-    external = abs(energies[ENERGY_COLUMNS.index("contact")])
-    internal = energies[ENERGY_COLUMNS.index("internal")]
+    run, grid, force, difference, sunk_at_end, ratio, error = run_compression_model(
+        model, controls, setup.rate, setup.displacement, setup.samples, progress=progress
+    )
     return CompressionResult(
         ball=ball,
         setup=setup,
@@ -255,11 +240,50 @@ def run_compression(
         displacement=grid,
         force=force,
         force_difference=difference,
-        penetration=float(sunk[at_end]),
+        penetration=sunk_at_end,
         compression=float(force[-1]),
         compression_fit=power_law_reading(grid, force, setup.displacement),
-        kinetic_to_internal=float(energies[0] / max(internal, 1e-300)),
-        energy_balance_error=float(np.abs(run.energies[:, BALANCE]).max() / max(external, 1e-300)),
+        kinetic_to_internal=ratio,
+        energy_balance_error=error,
         mass_scale=scale,
         damping=damping,
     )
+
+
+def run_compression_model(
+    model: Model,
+    controls: ExplicitControls,
+    rate: float,
+    displacement: float,
+    samples: int,
+    *,
+    progress: Callable[[float], None] | None = None,
+) -> tuple[ExplicitResult, np.ndarray, np.ndarray, np.ndarray, float, float, float]:
+    """Run a ball between a top plate (contact 0) moving at ``rate`` and a fixed bottom plate
+    (contact 1) and read the curve: shared by :func:`run_compression` and the keyword-deck runner.
+
+    Returns the run, the deformation grid [m], the mean plate force and the top-bottom difference
+    on it [N], the penetration at full deformation [m], kinetic over internal energy at the end,
+    and the energy balance error over the plates' work.
+    """
+    run = run_explicit(model, controls, progress=progress)
+    sunk = run.penetration.sum(axis=1)
+    deformation = np.maximum.accumulate(rate * run.time - sunk)
+    if deformation[-1] < displacement:
+        raise SimulationError(
+            f"the ball deformed only {deformation[-1] / IN:.4f} in after "
+            f"{rate * run.time[-1] / IN:.4f} in of plate travel: the contact penalty lets "
+            f"it sink {sunk[-1] / IN:.4f} in into the plates; raise the contact scale (SFS)"
+        )
+    top = run.reaction[:, 0, 2]
+    bottom = -run.reaction[:, 1, 2]
+    grid = np.linspace(0.0, displacement, samples)
+    force = np.interp(grid, deformation, 0.5 * (top + bottom))
+    difference = np.interp(grid, deformation, top - bottom)
+    at_end = int(np.searchsorted(deformation, displacement))
+    energies = run.energies[-1]
+    external = abs(energies[ENERGY_COLUMNS.index("contact")])
+    internal = energies[ENERGY_COLUMNS.index("internal")]
+    ratio = float(energies[0] / max(internal, 1e-300))
+    error = float(np.abs(run.energies[:, BALANCE]).max() / max(external, 1e-300))
+    return run, grid, force, difference, float(sunk[at_end]), ratio, error

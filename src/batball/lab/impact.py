@@ -219,14 +219,35 @@ def run_impact(
         bulk_viscosity=setup.bulk_viscosity,
         separation_time=setup.separation_time,
     )
+    run, load_cell, measures = run_impact_model(
+        model, controls, setup.contact_threshold, progress=progress
+    )
+    return ImpactResult(
+        ball=ball, setup=setup, measures=measures, run=run, mesh=model.mesh, load_cell=load_cell
+    )
+
+
+def run_impact_model(
+    model: Model,
+    controls: ExplicitControls,
+    threshold: float,
+    *,
+    progress: Callable[[float], None] | None = None,
+) -> tuple[ExplicitResult, np.ndarray, ImpactMeasures]:
+    """Run an impact model (body fired at its first contact's target) and measure it.
+
+    Returns the run, the load cell (the first target's reaction along the flight path [N]) and
+    the measurements. Shared by :func:`run_impact` and the keyword-deck runner.
+    """
     run = run_explicit(model, controls, progress=progress)
     if run.contact_nodes[-1] > 0 or not run.contact_nodes.any():
         state = "is still in contact with" if run.contact_nodes.any() else "never reached"
         raise SimulationError(
-            f"the ball {state} the target at the end time {setup.end_time * 1e3:.2f} ms, so no "
-            f"rebound can be measured; raise end_time or check the material"
+            f"the ball {state} the target at the end time {controls.end_time * 1e3:.2f} ms, so "
+            f"no rebound can be measured; raise end_time or check the material"
         )
-    direction = model.initial_velocity[0] / setup.speed
+    speed = float(np.linalg.norm(model.initial_velocity[0]))
+    direction = model.initial_velocity[0] / speed
     load_cell = run.reaction[:, 0, :] @ direction
     measures = measure_impact(
         run.time,
@@ -234,8 +255,6 @@ def run_impact(
         run.com_velocity,
         inbound=model.initial_velocity[0],
         mass=run.mass,
-        threshold=setup.contact_threshold,
+        threshold=threshold,
     )
-    return ImpactResult(
-        ball=ball, setup=setup, measures=measures, run=run, mesh=model.mesh, load_cell=load_cell
-    )
+    return run, load_cell, measures
