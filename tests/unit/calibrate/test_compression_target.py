@@ -71,3 +71,14 @@ def test_compression_runs_on_the_coarse_mesh_in_every_stage() -> None:
     assert problem.run_divisions("ccor") == 12
     coarse = dataclasses.replace(problem, divisions=6)
     assert coarse.run_divisions("compression") == 6
+
+
+def test_report_row_of_a_compression_target_has_lbf_and_no_speed() -> None:
+    from batball.calibrate.command import target_rows
+
+    target = Target("compression", 0.0, 375 * LBF)
+    (row,) = target_rows([target], [target], np.array([390 * LBF]))
+    assert row["target"] == "compression @ 0.25 in" and row["speed_mph"] is None
+    assert row["unit"] == "lbf"
+    assert (row["measured"], row["fitted"]) == pytest.approx((375, 390), rel=1e-12)
+    assert row["fitted_pct"] == pytest.approx(4.0) and row["goal_pct"] == pytest.approx(5.0)
