@@ -18,6 +18,8 @@ declare -A ARGS=(
   [type1-prony3-cold]="--ball type1 --model prony3"
   [type1-mat006-fit95]="--ball type1 --model mat006 --fit-speeds 95mph"
   [type1-mat006-fit110]="--ball type1 --model mat006 --fit-speeds 110mph"
+  [type2-mat006-fit95]="--ball type2 --model mat006 --fit-speeds 95mph"
+  [type2-mat006-fit110]="--ball type2 --model mat006 --fit-speeds 110mph"
 )
 names=("$@")
 [ ${#names[@]} -eq 0 ] && names=(type1-mat006 type2-mat006 type1-prony3 type2-prony3 type1-mat006-fit95 type1-mat006-fit110)
