@@ -28,8 +28,9 @@ from batball.specs import BallSpec
 #: that a study file does not mix outcomes of two code versions.
 EVALUATION_VERSION = 1
 
-#: Finest ball mesh of a compression run in a calibration (a run on the 12-division mesh costs
-#: 2-6 minutes on this machine; 8 divisions is the coarsest that reads within 5 % of it).
+#: Finest ball mesh of a compression run in a calibration (a type-1 run on the 12-division mesh
+#: costs 2 min on the idle machine, 6-30 min on the loaded one; 8 divisions is the coarsest that
+#: reads within about 5 % of it, docs/compression.md).
 COMPRESSION_DIVISIONS = 8
 #: Solver loading rate of a compression run in a calibration (the test's own default is 60).
 COMPRESSION_RATIO = 30.0
@@ -37,7 +38,7 @@ COMPRESSION_RATIO = 30.0
 
 @dataclass(frozen=True)
 class RunRequest:
-    """The inputs of one impact run.
+    """The inputs of one run (an impact or a compression test).
 
     Attributes:
         ball: the candidate ball; test: ``"ccor"``, ``"cor"`` or ``"compression"``;
