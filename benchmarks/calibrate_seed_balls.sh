@@ -3,6 +3,8 @@
 # and the cross-validation fits. Writes benchmarks/calibration/<name>.json (the --json report) and
 # the fitted ball specs; studies go to $STUDIES (default runs/), so a rerun reuses finished runs.
 # Usage: benchmarks/calibrate_seed_balls.sh [name ...]   (names below; default: all)
+# typeN-prony3 starts from the MAT_006 fit typeN-mat006.toml (so run that first: the 3-term model
+# is then compared with the 1-term fit it contains); typeN-prony3-cold from the seed's ball.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=benchmarks/calibration
@@ -11,10 +13,13 @@ PY=${PY:-python}
 declare -A ARGS=(
   [type1-mat006]="--ball type1 --model mat006"
   [type2-mat006]="--ball type2 --model mat006"
-  [type1-prony3]="--ball type1 --model prony3"
-  [type2-prony3]="--ball type2 --model prony3"
+  [type1-prony3]="--ball $OUT/type1-mat006.toml --model prony3"
+  [type2-prony3]="--ball $OUT/type2-mat006.toml --model prony3"
+  [type1-prony3-cold]="--ball type1 --model prony3"
   [type1-mat006-fit95]="--ball type1 --model mat006 --fit-speeds 95mph"
   [type1-mat006-fit110]="--ball type1 --model mat006 --fit-speeds 110mph"
+  [type2-mat006-fit95]="--ball type2 --model mat006 --fit-speeds 95mph"
+  [type2-mat006-fit110]="--ball type2 --model mat006 --fit-speeds 110mph"
 )
 names=("$@")
 [ ${#names[@]} -eq 0 ] && names=(type1-mat006 type2-mat006 type1-prony3 type2-prony3 type1-mat006-fit95 type1-mat006-fit110)

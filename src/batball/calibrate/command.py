@@ -93,8 +93,10 @@ def select_targets(args: argparse.Namespace, ball_name: str) -> tuple[Any, Any]:
     if not args.fit_speeds:
         return targets, targets
     speeds = [parse_quantity(s, "velocity", field="fit-speeds") for s in args.fit_speeds]
-    fitted = tuple(t for t in targets if any(abs(t.speed - s) < 0.05 for s in speeds))
-    if not fitted:
+    fitted = tuple(
+        t for t in targets if t.speed == 0.0 or any(abs(t.speed - s) < 0.05 for s in speeds)
+    )  # a quasi-static target (compression, speed 0) stays in the fit
+    if all(t.speed == 0.0 for t in fitted):
         raise SpecError("fit-speeds", args.fit_speeds, "speeds that some target has")
     return targets, fitted
 
@@ -222,7 +224,7 @@ def target_rows(targets: Sequence[Any], fitted: Sequence[Any], simulated: Any) -
             {
                 "target": target.label,
                 "quantity": target.quantity,
-                "speed_mph": round(to_unit(target.speed, "mph"), 3),
+                "speed_mph": round(to_unit(target.speed, "mph"), 3) if target.speed else None,
                 "unit": unit,
                 "measured": _display(target.value, unit),
                 "fitted": _display(float(value), unit),

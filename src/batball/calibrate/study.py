@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from batball.calibrate.evaluate import RunRequest, run_request
+from batball.calibrate.evaluate import COMPRESSION_DIVISIONS, RunRequest, run_request
 from batball.calibrate.parameters import ParameterSpace
 from batball.calibrate.store import StudyStore
 from batball.calibrate.targets import Target
@@ -111,8 +111,16 @@ class CalibrationProblem:
         return dataclasses.replace(self.ball, material=material)
 
     def runs(self) -> list[tuple[str, float]]:
-        """The distinct (test, speed) runs the targets need."""
+        """The distinct (test, speed) runs the targets need (one compression run at most)."""
         return sorted({(t.spec.test, t.speed) for t in self.targets})
+
+    def run_divisions(self, test: str) -> int:
+        """The ball mesh of a ``test`` run: ``divisions``, but at most
+        :data:`~batball.calibrate.evaluate.COMPRESSION_DIVISIONS` for compression (its runs
+        take some 10^5 steps; the same compression run serves the coarse and the fine stage)."""
+        if test == "compression":
+            return min(self.divisions, COMPRESSION_DIVISIONS)
+        return self.divisions
 
     def evaluate(
         self, points: np.ndarray, evaluator: Evaluator, *, label: str = ""
@@ -127,7 +135,7 @@ class CalibrationProblem:
         """Evaluations of parameter sets ``candidates`` (SI), all runs in one parallel batch."""
         balls = [self.candidate(values) for values in candidates]
         requests = [
-            RunRequest(ball, test, speed, self.divisions)
+            RunRequest(ball, test, speed, self.run_divisions(test))
             for ball in balls
             if ball is not None
             for test, speed in self.runs()

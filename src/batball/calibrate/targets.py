@@ -13,8 +13,14 @@ A target file (TOML) lists one table per measurement, units in strings::
     speed = "95 mph"
     value = "7190 lbf/in"
 
-A CSV file has the header ``quantity,speed,value,weight`` (weight optional) with the same strings.
-The embedded default is the seed's experiment columns (Tables 5-8) for ball types 1 and 2.
+    [[target]]
+    quantity = "compression"     # ASTM F1888: force at 0.25 in between flat plates
+    value = "375 lbf"            # no speed: the test is quasi-static
+
+A CSV file has the header ``quantity,speed,value,weight`` (weight optional) with the same strings
+(an empty speed for a compression target).
+The embedded default is the seed's experiment columns (Tables 5-8) for ball types 1 and 2 (the
+seed reports no measured compression).
 """
 
 from __future__ import annotations
@@ -37,11 +43,15 @@ class Quantity:
 
     Attributes:
         name: the key users type (``"ccor"``).
-        test: the virtual test that measures it (``"ccor"`` or ``"cor"``).
-        attribute: the :class:`~batball.lab.measures.ImpactMeasures` field it reads.
+        test: the virtual test that measures it (``"ccor"``, ``"cor"`` or ``"compression"``).
+        attribute: the field of the run's measures it reads (an
+            :class:`~batball.lab.measures.ImpactMeasures` field for the impact tests; for the
+            compression test see :func:`batball.calibrate.evaluate.compression_measures`).
         dimension: pint dimension name of its value; display_unit: unit for reports.
         tolerance: the issue's goal as a relative error (CCOR 1 %, peak 3 %, DS and contact
-            time 5 %); residuals are divided by it so that every goal weighs the same.
+            time 5 %; compression 5 %, the scatter of its reading between meshes,
+            docs/compression.md); residuals are divided by it so that every goal weighs the
+            same.
     """
 
     name: str
@@ -61,8 +71,12 @@ QUANTITIES: dict[str, Quantity] = {
         Quantity("dynamic_stiffness", "ccor", "dynamic_stiffness", "stiffness", "lbf/in", 0.05),
         Quantity("peak_force", "ccor", "peak_force", "force", "lbf", 0.03),
         Quantity("contact_time", "ccor", "contact_time", "time", "ms", 0.05),
+        Quantity("compression", "compression", "compression_fit", "force", "lbf", 0.05),
     )
 }
+
+#: The tests that take no speed (quasi-static); their targets carry speed 0.
+STATIC_TESTS = frozenset({"compression"})
 
 MAX_SPEED = 100.0  # m/s, the impact lab's limit (223 mph)
 
@@ -73,7 +87,7 @@ class Target:
 
     Attributes:
         quantity: a key of :data:`QUANTITIES`.
-        speed: inbound speed [m/s].
+        speed: inbound speed [m/s]; 0 for a quasi-static test (compression).
         value: the measurement, SI.
         weight: relative weight in the objective (> 0).
         reference: an optional comparison value, SI (the seed's LS-DYNA result), or None.
@@ -88,7 +102,12 @@ class Target:
     def __post_init__(self) -> None:
         if self.quantity not in QUANTITIES:
             raise SpecError("target.quantity", self.quantity, f"one of {', '.join(QUANTITIES)}")
-        if not 0.0 < self.speed <= MAX_SPEED:
+        if self.spec.test in STATIC_TESTS:
+            if self.speed != 0.0:
+                raise SpecError(
+                    "target.speed", format_quantity(self.speed, "mph"), "none for compression"
+                )
+        elif not 0.0 < self.speed <= MAX_SPEED:
             raise SpecError(
                 "target.speed", format_quantity(self.speed, "mph"), "0 mph < speed <= 223 mph"
             )
@@ -104,7 +123,9 @@ class Target:
 
     @property
     def label(self) -> str:
-        """``"ccor @ 95 mph"``."""
+        """``"ccor @ 95 mph"``; ``"compression @ 0.25 in"``."""
+        if self.spec.test in STATIC_TESTS:
+            return f"{self.quantity} @ 0.25 in"
         return f"{self.quantity} @ {to_unit(self.speed, 'mph'):.0f} mph"
 
     def simulated(self, measures: ImpactMeasures) -> float:
@@ -146,17 +167,22 @@ def target_from_dict(row: Mapping[str, Any], *, field: str) -> Target:
     for key in row:
         if key not in known:
             raise SpecError(f"{field}.{key}", row[key], f"one of the keys {', '.join(known)}")
-    for key in known[:3]:
-        if row.get(key) in (None, ""):
-            raise SpecError(f"{field}.{key}", "missing", f"a {key}")
-    name = row["quantity"]
+    name = row.get("quantity")
+    if name in (None, ""):
+        raise SpecError(f"{field}.quantity", "missing", "a quantity")
     if name not in QUANTITIES:
         raise SpecError(f"{field}.quantity", name, f"one of {', '.join(QUANTITIES)}")
     quantity = QUANTITIES[name]
+    static = quantity.test in STATIC_TESTS
+    if static and row.get("speed") not in (None, ""):
+        raise SpecError(f"{field}.speed", row["speed"], f"no speed: {name} is quasi-static")
+    for key in ("value",) if static else ("speed", "value"):
+        if row.get(key) in (None, ""):
+            raise SpecError(f"{field}.{key}", "missing", f"a {key}")
     raw_weight = row.get("weight")
     weight = 1.0 if raw_weight in (None, "") else float(raw_weight)
     value = parse_quantity(row["value"], quantity.dimension, field=f"{field}.value")
-    speed = parse_quantity(row["speed"], "velocity", field=f"{field}.speed")
+    speed = 0.0 if static else parse_quantity(row["speed"], "velocity", field=f"{field}.speed")
     try:
         return Target(name, speed, value, weight)
     except SpecError as exc:
@@ -195,6 +221,7 @@ def describe_value(target: Target, value: float) -> str:
 
 __all__ = [
     "QUANTITIES",
+    "STATIC_TESTS",
     "Quantity",
     "Target",
     "describe_value",

@@ -64,3 +64,37 @@ def test_bad_targets_name_the_field(tmp_path: Path, row: str, field: str) -> Non
     with pytest.raises(SpecError) as info:
         load_targets(path)
     assert info.value.field == field
+
+
+def test_compression_target_is_read_with_its_force_unit_and_no_speed(tmp_path: Path) -> None:
+    toml = tmp_path / "c.toml"
+    toml.write_text('[[target]]\nquantity = "compression"\nvalue = "375 lbf"\nweight = 2\n')
+    csv = tmp_path / "c.csv"
+    csv.write_text("quantity,speed,value\ncompression,,1.668 kN\nccor,95 mph,0.38\n")
+    (compression,) = load_targets(toml)
+    assert compression.value == pytest.approx(375 * 4.4482216152605)  # 1668.08 N
+    assert (compression.speed, compression.weight) == (0.0, 2.0)
+    assert compression.label == "compression @ 0.25 in"
+    # its goal is 5 %: 5 % high is a residual of 1, times the weight
+    assert compression.residual(1.05 * compression.value) == pytest.approx(2.0)
+    from_csv, ccor = load_targets(csv)
+    assert from_csv.value == pytest.approx(1668.0) and from_csv.speed == 0.0
+    assert ccor.speed == pytest.approx(95 * MPH)
+
+
+@pytest.mark.parametrize(
+    ("row", "field"),
+    [
+        ('quantity = "compression"\nvalue = "375 psi"', "target[0].value"),
+        ('quantity = "compression"\nvalue = 375', "target[0].value"),
+        ('quantity = "compression"\nvalue = "375 lbf/in"', "target[0].value"),
+        ('quantity = "compression"\nspeed = "95 mph"\nvalue = "375 lbf"', "target[0].speed"),
+        ('quantity = "compression"\nvalue = "-375 lbf"', "target[0].compression"),
+    ],
+)
+def test_bad_compression_targets_name_the_field(tmp_path: Path, row: str, field: str) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text(f"[[target]]\n{row}\n")
+    with pytest.raises(SpecError) as info:
+        load_targets(path)
+    assert info.value.field == field
