@@ -24,6 +24,9 @@ DEFAULT_FREE: dict[str, tuple[str, ...]] = {
     "mat083": ("curve_scale", "hu", "shape", "damp"),
 }
 
+#: The example foam ball whose material starts a ``--model mat057/mat083`` calibration.
+FOAM_EXAMPLES = {"mat057": "foam057", "mat083": "foam083"}
+
 
 def add_calibrate_arguments(p: argparse.ArgumentParser) -> None:
     """The options of ``batball calibrate``."""
@@ -75,8 +78,13 @@ def starting_ball(args: argparse.Namespace) -> Any:
         raise SpecError("model", model, f"one of {', '.join(DEFAULT_FREE)}")
     if model == ball.material.law:
         return ball
+    if model in FOAM_EXAMPLES:  # a seed ball as a foam: the example foam's material, its size
+        material = load_ball_spec(FOAM_EXAMPLES[model]).material
+        return dataclasses.replace(ball, material=material)
     if ball.material.law != "mat006" or not model.startswith("prony"):
-        raise SpecError("model", model, f"the ball's own law {ball.material.law} or prony3")
+        raise SpecError(
+            "model", model, f"the ball's own law {ball.material.law}, prony3, mat057 or mat083"
+        )
     values = prony_from_mat006(ball.material.values, n_terms=int(model.removeprefix("prony")))
     return dataclasses.replace(ball, material=MaterialSpec(law=model, values=values))
 

@@ -212,16 +212,18 @@ class FoamLaw(MaterialLaw):
     def kernel_constants(
         self, values: Mapping[str, float], curves: Sequence[FoamCurve] = ()
     ) -> np.ndarray:
-        """The isotropic (nu = 0) stand-ins the rest of the code reads, (4,): K = E_eff / 3 and
-        G0 = E_eff / 2 (so K + 4/3 G0 = E_eff sets the wave speed and contact stiffness),
-        G_inf = E_0 / 2 with E_0 the scaled first slope of the first curve (the quasi-static
-        modulus, for the compression test's Hertz estimate), beta = 0."""
+        """The stand-ins the rest of the code reads from a law's constants, (4,):
+        K = E_eff, the modulus LS-DYNA's foams use for contact (KCON, "stiffness for contact
+        and time step"; the penalty formula takes it in place of the bulk modulus); G0 = 0, so
+        that K + 4/3 G0 = E_eff sets the wave speed; G_inf = E_0 / 3 with E_0 the scaled first
+        slope of the first curve, so that the relaxed Young's modulus 9 K G_inf / (3 K + G_inf)
+        is about E_0 (the compression test's Hertz estimate); beta = 0."""
         if not curves:
             raise SpecError("material.curves", "none", f"the loading curve(s) of {self.name}")
         e_eff = self.effective_modulus(values, curves)
         first = curves[0]
         e_0 = values["curve_scale"] * first.stress[1] / first.strain[1]
-        return np.array([e_eff / 3.0, e_eff / 2.0, e_0 / 2.0, 0.0], dtype=np.float64)
+        return np.array([e_eff, 0.0, e_0 / 3.0, 0.0], dtype=np.float64)
 
     def foam_table(self, values: Mapping[str, float], curves: Sequence[FoamCurve]) -> FoamTable:
         """Pack ``values`` and ``curves`` for :mod:`batball.elements.hex8_foam`."""

@@ -237,15 +237,32 @@ def finish_cycle(
         energies[c] += total
     contact_forces[:] = 0.0
     n_active = add_rigid_contact_forces(
-        points, clock[TIME], node_ids, stiffness, c_offsets, kinds, params, contact_forces,
-        reaction, penetration,
+        points,
+        clock[TIME],
+        node_ids,
+        stiffness,
+        c_offsets,
+        kinds,
+        params,
+        contact_forces,
+        reaction,
+        penetration,
     )
     dt_new = next_step(cell_dt, clock, counters, limits)
     if dt_new < 0.0:
         return int(dt_new)
     assemble_and_update(
-        cell_forces, offsets, entries, contact_forces, mass, limits[DAMPING], clock[DT], dt_new,
-        points, velocities, sums,
+        cell_forces,
+        offsets,
+        entries,
+        contact_forces,
+        mass,
+        limits[DAMPING],
+        clock[DT],
+        dt_new,
+        points,
+        velocities,
+        sums,
     )
     energies[CONTACT_ENERGY] -= sums[1]
     energies[DAMPING_ENERGY] += sums[2]
