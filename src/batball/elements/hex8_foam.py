@@ -14,9 +14,13 @@ hourglass control, bulk viscosity, nodal forces and stable step (``hex8_geometry
    construction, since b = F F^T rotates with the body;
 3. MAT_057's rate stress (ED, BETA1), a Maxwell stress E_d int exp(-beta_1 (t - s)) D ds
    rotated by the step's Hughes-Winget rotation like MAT_006's deviator;
-4. the DAMP stress DAMP rho c l D with l = V^(1/3) and c = sqrt(E_eff / rho);
+4. the DAMP stress DAMP rho c L_e D with L_e = V / A_max, the time step's length (so that the
+   step's reduction below is exact however flat a crushed element gets) and c the wave speed;
 5. ``element_response`` with a zero bulk modulus (no separate pressure: the foam's stress is
-   complete) and the effective modulus E_eff for c (time step, hourglass, bulk viscosity); the
+   complete) and the effective modulus E_eff for c (time step, hourglass, bulk viscosity), or
+   the element's current unloading tangent where that is stiffer (the HU/SHAPE damage makes
+   unloading up to 1 + 2 SHAPE (1 - HU) times stiffer than loading, which would otherwise
+   break the stable step); the
    step is divided by DAMP + sqrt(1 + DAMP^2), the reduction a linear viscosity DAMP c causes
    (the same form as LS-DYNA's Q in the solid time step).
 
@@ -31,7 +35,11 @@ from typing import Any
 import numba as nb
 import numpy as np
 
-from batball.elements.hex8_geometry import modal_sums, modal_volume_gradient
+from batball.elements.hex8_geometry import (
+    modal_largest_face_area,
+    modal_sums,
+    modal_volume_gradient,
+)
 from batball.elements.hex8_kinematics import (
     advance_prony_term,
     cayley_rotation,
@@ -145,7 +153,9 @@ def foam_element(e, mesh, material, state, outputs, controls, scratch):
     d_full = (dd[0], dd[3], dd[5], dd[3], dd[1], dd[4], dd[5], dd[4], dd[2])
     _fill(scratch[5], d_full)
     old_row = row.copy()
-    foam_stress(scratch[4], scratch[5], dt, row, table, scratch)
+    tangent = foam_stress(scratch[4], scratch[5], dt, row, table, scratch)
+    # the wave speed's modulus: E_eff, or the unloading tangent where that is stiffer
+    modulus = max(params[P_MODULUS], tangent + params[P_ED])
     sigma = _voigt(scratch[3])
     # 3: MAT_057's Maxwell rate stress, rotated with the step (Jaumann) and advanced
     q = cayley_rotation(0.5 * (lg[1] - lg[3]), 0.5 * (lg[5] - lg[7]), 0.5 * (lg[6] - lg[2]), dt)
@@ -155,8 +165,9 @@ def foam_element(e, mesh, material, state, outputs, controls, scratch):
     # 4: the DAMP stress, with the current density and the effective wave speed
     g1, g2, g3, g4, g5, g6, vol = modal_volume_gradient(x[0], x[1], x[2], x[3], x[4], x[5])
     rho = rho0 * volume0[e] / vol if vol > 0.0 else rho0
-    c = np.sqrt(params[P_MODULUS] / rho)
-    damping = params[P_DAMP] * rho * c * np.cbrt(abs(vol))
+    c = np.sqrt(modulus / rho)
+    length = vol / modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])  # L_e, as dt's
+    damping = params[P_DAMP] * rho * c * abs(length)
     total = _axpy6(_axpy6(sigma, rate_stress, 1.0), dd, damping)  # shear: tensor components
     old = _load6(old_row, H_STRESS)
     dev_work = half_stress_work(old, total, de)
@@ -168,7 +179,7 @@ def foam_element(e, mesh, material, state, outputs, controls, scratch):
     )
     _, hg, forces, step, work = element_response(
         x, v, (g1, g2, g3, g4, g5, g6), total, _ZERO6, hg_old,
-        (vol, volume0[e], trd, vmid, dev_work, 0.0), (rho0, 0.0, params[P_MODULUS]),
+        (vol, volume0[e], trd, vmid, dev_work, 0.0), (rho0, 0.0, modulus),
         (dt, q1, q2, hg_coefficient), fb, stiff,
     )  # fmt: skip
     ok = vol > 0.0

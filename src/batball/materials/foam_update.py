@@ -135,6 +135,13 @@ def hysteresis_factor(w: float, w_max: float, hu: float, shape: float) -> float:
     return 1.0 - (1.0 - hu) * (1.0 - (max(w, 0.0) / w_max) ** shape)
 
 
+@nb.njit(inline="always")
+def curve_slope(strains: np.ndarray, stresses: np.ndarray, count: int, s: float) -> float:
+    """The loading curve's slope at compressive strain s [Pa]."""
+    k = _segment(strains, count, s)
+    return (stresses[k + 1] - stresses[k]) / (strains[k + 1] - strains[k])
+
+
 @nb.njit
 def principal_nominal_stresses(
     stretches: np.ndarray,
@@ -142,12 +149,18 @@ def principal_nominal_stresses(
     history: np.ndarray,
     table: tuple[np.ndarray, ...],
     out: np.ndarray,
-) -> None:
+) -> float:
     """Nominal stresses tau_i [Pa] (tension positive) of the three principal stretches into
-    ``out`` (3,), updating W_max in ``history``.
+    ``out`` (3,), updating W_max in ``history``; returns the largest Cauchy tangent
+    lambda_i^2 / J d tau_i / d e_i [Pa] (E for a direction in tension or on a MAT_083 rate
+    curve, whose slopes E_eff covers); > the nominal one where a point is compressed in more
+    than one direction (sigma_i = tau_i lambda_i / J).
 
     Loading (W >= W_max): the loading curve (MAT_083: interpolated at ``rate``); unloading: the
     first curve times 1 - D (:func:`hysteresis_factor`); tension E e up to TC, undamaged.
+    While unloading the tangent is (1 - D) f' + (1 - HU) SHAPE (W / W_max)^(SHAPE - 1) f^2 / W_max
+    (dW / de_i = f_i): up to 1 + 2 SHAPE (1 - HU) times the loading slope at the turning point,
+    which the time step must see (LAW90 likewise updates an effective modulus).
     """
     params, rates, strains, stresses, counts, energies = table
     young, cutoff = params[P_E], params[P_TC]
@@ -161,17 +174,29 @@ def principal_nominal_stresses(
     w_max = history[H_WMAX]
     loading = w >= w_max
     factor = hysteresis_factor(w, w_max, params[P_HU], params[P_SHAPE])
+    growth = 0.0  # d(1 - D)/dW while unloading
     if loading:
         history[H_WMAX] = w
+    elif w > 0.0:
+        shape = params[P_SHAPE]
+        growth = (1.0 - params[P_HU]) * shape * (w / w_max) ** (shape - 1.0) / w_max
     rated = params[P_KIND] == KIND_MAT083 and loading
+    jacobian = stretches[0] * stretches[1] * stretches[2]
+    tangent = 0.0
     for i in range(3):
         e = stretches[i] - 1.0
+        slope = young
         if e >= 0.0:
             out[i] = tension_stress_energy(e, young, cutoff)[0]
         elif rated:
             out[i] = -rate_curve_stress(rates, strains, stresses, counts, rate, -e)
         else:
-            out[i] = -factor * curve_stress(strains[0], stresses[0], counts[0], -e)
+            f = curve_stress(strains[0], stresses[0], counts[0], -e)
+            out[i] = -factor * f
+            slope = factor * curve_slope(strains[0], stresses[0], counts[0], -e) + growth * f * f
+        # the Cauchy tangent d sigma_i / d ln lambda_i = lambda_i^2 / J d tau_i / d e_i
+        tangent = max(tangent, slope * stretches[i] * stretches[i] / jacobian)
+    return tangent
 
 
 @nb.njit
@@ -189,8 +214,9 @@ def foam_stress(
     history: np.ndarray,
     table: tuple[np.ndarray, ...],
     scratch: np.ndarray,
-) -> None:
-    """Foam Cauchy stress of one point from its deformation gradient, into ``scratch[3]``.
+) -> float:
+    """Foam Cauchy stress of one point from its deformation gradient, into ``scratch[3]``;
+    returns the largest principal Cauchy tangent modulus [Pa] (:func:`principal_nominal_stresses`).
 
     Args:
         f: (3, 3) deformation gradient F; d: (3, 3) rate of deformation D [1/s] (MAT_083's rate).
@@ -215,7 +241,7 @@ def foam_stress(
     params = table[0]
     history[H_RATE] = filtered_rate(history[H_RATE], max(rate, 0.0), params[P_RATE_FILTER], dt)
     tau = scratch[2, 1]
-    principal_nominal_stresses(stretches, history[H_RATE], history, table, tau)
+    tangent = principal_nominal_stresses(stretches, history[H_RATE], history, table, tau)
     jacobian = stretches[0] * stretches[1] * stretches[2]
     for i in range(3):
         for j in range(3):
@@ -223,3 +249,4 @@ def foam_stress(
             for k in range(3):
                 total += tau[k] * stretches[k] / jacobian * vectors[i, k] * vectors[j, k]
             sigma[i, j] = total
+    return tangent

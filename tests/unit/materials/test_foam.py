@@ -187,3 +187,27 @@ def test_foam_ball_spec_round_trips_through_toml(name: str) -> None:
         assert a.strain == b.strain and a.strain_rate == pytest.approx(b.strain_rate)
         assert np.allclose(a.stress, b.stress, rtol=1e-12, atol=0)
     assert ball.material.curves[0].stress[3] == pytest.approx(330.0 * PSI)
+
+
+def test_the_returned_tangent_is_the_unloading_slope() -> None:
+    # HU 0.1, SHAPE 4: unloading is several times stiffer than loading
+    material = _material("foam057", hu=0.1, shape=4.0)
+    table = material.foam_table().arrays()
+    history = np.zeros(N_HISTORY)
+    _stress(material, np.diag([0.6, 1.0, 1.0]), history)  # load to 40 %
+    scratch, d = np.zeros((6, 3, 3)), np.zeros((3, 3))
+
+    def tau(s: float) -> tuple[float, float]:
+        h = history.copy()
+        tangent = foam_stress(np.diag([1.0 - s, 1.0, 1.0]), d, 1e-6, h, table, scratch)
+        return scratch[3][0, 0], tangent
+
+    s, step = 0.37, 1e-6
+    slope = (tau(s - step)[0] - tau(s + step)[0]) / (2 * step)  # d tau / d e, e = -s
+    # the Cauchy tangent lambda_i^2 / J d tau_i / d e_i, J = 1 - s: (1 - s) slope along x, and
+    # E / (1 - s) along the unstrained sides (tension branch)
+    lateral = material.values["youngs_modulus"] / (1.0 - s)
+    assert tau(s)[1] == pytest.approx(max((1.0 - s) * slope, lateral), rel=1e-4)
+    strain, stress = _curve(material)
+    loading_slope = np.interp(s, strain[1:], np.diff(stress) / np.diff(strain))  # segment 0.3-0.4
+    assert slope > 3.0 * loading_slope
