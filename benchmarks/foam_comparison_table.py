@@ -40,9 +40,8 @@ def comparison(ball: str) -> str:
             cells.append(f"**{text}**" if abs(r["fitted_pct"]) <= r["goal_pct"] else text)
         digits = 3 if target["unit"] in ("", "ms") else 0
         measured = f"{target['measured']:.{digits}f} {target['unit']}".strip()
-        lines.append(
-            f"| {target['target']} | {measured} | {' | '.join(cells)} | {target['goal_pct']:.0f} % |"
-        )
+        goal = f"{target['goal_pct']:.0f} %"
+        lines.append(f"| {target['target']} | {measured} | {' | '.join(cells)} | {goal} |")
     within, rms = [], []
     for m in names:
         targets = reports[m]["targets"]
