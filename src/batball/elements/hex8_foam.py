@@ -131,9 +131,10 @@ def _store6(row: np.ndarray, first: int, s: tuple) -> None:
 
 
 @nb.njit
-def foam_element(e, mesh, material, state, outputs, controls, scratch):
+def foam_element(e, mesh, material, state, outputs, controls, scratch, saved):
     """Stress update, nodal forces and stable step of cell ``e``; returns its work [J] as
-    (internal, hourglass, bulk viscosity). Arguments as in :func:`compute_foam_forces`."""
+    (internal, hourglass, bulk viscosity). Arguments as in :func:`compute_foam_forces`;
+    scratch (6, 3, 3) and saved (N_HISTORY,) are work space."""
     points, velocities, cells, reference = mesh
     rho0, volume0, table = material
     history, hg_state = state
@@ -152,7 +153,8 @@ def foam_element(e, mesh, material, state, outputs, controls, scratch):
     _fill(scratch[4], deformation_gradient(x, cell_modal_sums(reference, cell)))
     d_full = (dd[0], dd[3], dd[5], dd[3], dd[1], dd[4], dd[5], dd[4], dd[2])
     _fill(scratch[5], d_full)
-    old_row = row.copy()
+    saved[:] = row
+    old_row = saved
     tangent = foam_stress(scratch[4], scratch[5], dt, row, table, scratch)
     # the wave speed's modulus: E_eff, or the unloading tangent where that is stiffer
     modulus = max(params[P_MODULUS], tangent + params[P_ED])
@@ -215,6 +217,7 @@ def _foam_forces(mesh, material, state, outputs, energy_increments, controls):
         first = chunk * n_cells // n_chunks
         end = (chunk + 1) * n_cells // n_chunks
         scratch = np.empty((6, 3, 3))
+        saved = np.empty(N_HISTORY)
         internal = 0.0
         hourglass = 0.0
         bulk = 0.0
@@ -222,7 +225,7 @@ def _foam_forces(mesh, material, state, outputs, energy_increments, controls):
             work = foam_element(
                 e, (points, velocities, cells, reference),
                 (rho0, volume0, (params, rates, strains, stresses, counts, energies)),
-                (history, hg_state), (cell_forces, cell_volume, cell_dt), controls, scratch,
+                (history, hg_state), (cell_forces, cell_volume, cell_dt), controls, scratch, saved,
             )  # fmt: skip
             internal += work[0]
             hourglass += work[1]
