@@ -93,6 +93,10 @@ def add_compression_parser(sub: Any) -> None:
         default=60.0,
         help="loading time in radians of the mass-scaled squash mode (default 60)",
     )
+    p.add_argument(
+        "--sfs", type=float, default=1.0,
+        help="contact penalty scale SFS (default 1; foam balls need about 5)",
+    )  # fmt: skip
     add_store_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=run_compression_command)
@@ -102,6 +106,7 @@ def run_compression_command(args: argparse.Namespace) -> int:
     """``batball compression``."""
     from batball.lab.compression import CompressionSetup
     from batball.lab.compression_run import run_compression_test
+    from batball.lab.impact import ContactOptions
     from batball.solvers.explicit import HourglassControl
     from batball.specs import load_ball_spec
     from batball.units import parse_quantity
@@ -115,6 +120,7 @@ def run_compression_command(args: argparse.Namespace) -> int:
             type=args.hourglass_type, coefficient=args.hourglass_coefficient
         ),
         quasi_static_ratio=args.quasi_static_ratio,
+        contact=ContactOptions(sfs=args.sfs),
     )
     update, bar = progress_bar(setup.displacement / setup.rate, enabled=True, unit="s")
     try:
@@ -506,9 +512,13 @@ def add_barrel_parser(sub: Any) -> None:
     help_text = "interference-fit pre-stress and barrel compression of a bat (seed Table 2)"
     p = sub.add_parser("barrel", help=help_text, description=help_text)
     add_bat_mesh_options(p)
-    p.add_argument("--ramp-steps", type=int, default=1,
-                   help="static steps removing the insert's overlap (default 1: the fit is "
-                   "linear and frictionless, so the end state does not depend on the path)")
+    p.add_argument(
+        "--ramp-steps",
+        type=int,
+        default=1,
+        help="static steps removing the insert's overlap (default 1: the fit is "
+        "linear and frictionless, so the end state does not depend on the path)",
+    )
     add_store_options(p)
     p.set_defaults(handler=run_barrel_command)
 

@@ -19,7 +19,13 @@ from batball.errors import SpecError
 DEFAULT_FREE: dict[str, tuple[str, ...]] = {
     "mat006": ("bulk_modulus", "g0", "g_inf", "beta"),
     "prony3": ("g_inf", "g1", "beta1", "g2", "beta2", "g3", "beta3"),
+    # foams (issue 5): the curves' level, the hysteresis and the viscous coefficient
+    "mat057": ("curve_scale", "hu", "shape", "damp"),
+    "mat083": ("curve_scale", "hu", "shape", "damp"),
 }
+
+#: The example foam ball whose material starts a ``--model mat057/mat083`` calibration.
+FOAM_EXAMPLES = {"mat057": "foam057", "mat083": "foam083"}
 
 
 def add_calibrate_arguments(p: argparse.ArgumentParser) -> None:
@@ -72,8 +78,13 @@ def starting_ball(args: argparse.Namespace) -> Any:
         raise SpecError("model", model, f"one of {', '.join(DEFAULT_FREE)}")
     if model == ball.material.law:
         return ball
+    if model in FOAM_EXAMPLES:  # a seed ball as a foam: the example foam's material, its size
+        material = load_ball_spec(FOAM_EXAMPLES[model]).material
+        return dataclasses.replace(ball, material=material)
     if ball.material.law != "mat006" or not model.startswith("prony"):
-        raise SpecError("model", model, f"the ball's own law {ball.material.law} or prony3")
+        raise SpecError(
+            "model", model, f"the ball's own law {ball.material.law}, prony3, mat057 or mat083"
+        )
     values = prony_from_mat006(ball.material.values, n_terms=int(model.removeprefix("prony")))
     return dataclasses.replace(ball, material=MaterialSpec(law=model, values=values))
 

@@ -62,6 +62,7 @@ class RunRequest:
             "mass": float(self.ball.mass).hex(),
             "law": self.ball.material.law,
             "values": {k: float(v).hex() for k, v in self.ball.material.values.items()},
+            **({"curves": _curves_inputs(self.ball)} if self.ball.material.curves else {}),
         }
         if self.test == "compression":  # the impact runs' keys stay as they were
             inputs["quasi_static_ratio"] = float(COMPRESSION_RATIO).hex()
@@ -72,6 +73,18 @@ class RunRequest:
         """SHA-256 of :meth:`inputs` (the ball's name and description do not count)."""
         text = json.dumps(self.inputs(), sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _curves_inputs(ball: BallSpec) -> list[dict[str, Any]]:
+    """A foam ball's loading curves as exact (hex) floats, for the run key."""
+    return [
+        {
+            "strain_rate": float(c.strain_rate).hex(),
+            "strain": [float(x).hex() for x in c.strain],
+            "stress": [float(x).hex() for x in c.stress],
+        }
+        for c in ball.material.curves
+    ]
 
 
 def run_request(request: RunRequest) -> dict[str, Any]:

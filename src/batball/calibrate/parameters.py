@@ -116,9 +116,11 @@ def default_interval(
     p: Parameter, start: float, *, span: float = DEFAULT_SPAN
 ) -> tuple[float, float]:
     """A decade (``span``) either side of ``start`` for log-scale parameters, else the declared
-    bounds; clipped to the declaration."""
+    bounds (an excluded lower bound moved in by 1 % of the range, e.g. MAT_057's HU in (0, 1]);
+    clipped to the declaration."""
     if not p.log_scale:
-        return p.lower, p.upper
+        inset = 0.0 if p.lower_inclusive else 0.01 * (p.upper - p.lower)
+        return p.lower + inset, p.upper
     if not start > 0.0:
         raise SpecError(
             f"bounds.{p.name}", format_quantity(start, p.display_unit),

@@ -105,7 +105,9 @@ class CalibrationProblem:
     def candidate(self, values: dict[str, float]) -> BallSpec | None:
         """The ball with ``values``, or None if they break the law's cross-field rules."""
         try:
-            material = MaterialSpec(law=self.space.law.name, values=values)
+            material = MaterialSpec(
+                law=self.space.law.name, values=values, curves=self.ball.material.curves
+            )
         except SpecError:
             return None
         return dataclasses.replace(self.ball, material=material)

@@ -190,7 +190,11 @@ def add_rigid_contact_forces(
         for s in range(offsets[k], offsets[k + 1]):
             n = node_ids[s]
             g = _penetration(
-                kinds[k], p, points[n, 0] - shift0, points[n, 1] - shift1, points[n, 2] - shift2,
+                kinds[k],
+                p,
+                points[n, 0] - shift0,
+                points[n, 1] - shift1,
+                points[n, 2] - shift2,
                 normal,
             )
             if g > 0.0:

@@ -41,7 +41,6 @@ import numpy as np
 from batball.contact.rigid import RigidPlane
 from batball.errors import SimulationError, SpecError
 from batball.lab.impact import ContactOptions, ball_body
-from batball.materials import MATERIAL_LAWS
 from batball.mesh import Mesh
 from batball.solvers.explicit import (
     BALANCE,
@@ -186,7 +185,7 @@ def loading_plan(
 
 def build_compression_model(ball: BallSpec, setup: CompressionSetup) -> tuple[Model, float, float]:
     """The mass-scaled ball between its plates; returns (model, mass scale, damping [1/s])."""
-    constants = MATERIAL_LAWS[ball.material.law].kernel_constants(ball.material.values)
+    constants = ball.material.kernel_constants()
     scale, damping = loading_plan(ball, setup, constants, ball.mass)
     # SOFT = 1's stability penalty scales with the (scaled) nodal mass
     body = ball_body(ball, setup.divisions, setup.contact, setup.time_step_scale, scale)
@@ -208,6 +207,7 @@ def build_compression_model(ball: BallSpec, setup: CompressionSetup) -> tuple[Mo
             RigidContact("bottom", bottom, body.nodes, body.stiffness),
         ),
         initial_velocity=np.zeros((mesh.n_points, 3)),
+        foam=body.foam,
     )
     return model, scale, damping
 

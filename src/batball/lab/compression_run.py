@@ -71,6 +71,7 @@ def summarise_compression(result: CompressionResult, wall_seconds: float) -> dic
         "hourglass_coefficient": setup.hourglass.coefficient,
         "bulk_viscosity": setup.bulk_viscosity.enabled,
         "contact_soft": setup.contact.soft,
+        **({"contact_sfs": setup.contact.sfs} if setup.contact.sfs != 1.0 else {}),
     }
 
 

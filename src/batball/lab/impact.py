@@ -21,7 +21,7 @@ from batball.contact.rigid import (
 )
 from batball.errors import SimulationError, SpecError
 from batball.lab.measures import ImpactMeasures, measure_impact
-from batball.materials import MATERIAL_LAWS
+from batball.materials.foam import FoamTable
 from batball.mesh import Mesh, boundary_faces, hex_volumes, make_ball_mesh
 from batball.solvers.explicit import (
     BulkViscosity,
@@ -159,6 +159,7 @@ class BallBody:
     density: float
     nodes: np.ndarray
     stiffness: np.ndarray
+    foam: FoamTable | None = None  # a foam ball's packed material (issue 5)
 
 
 def ball_body(
@@ -173,13 +174,13 @@ def ball_body(
     ``mass_scale`` multiplies the density the SOFT = 1 stiffness sees (quasi-static tests).
     """
     mesh = make_ball_mesh(ball.radius, divisions=divisions)
-    constants = MATERIAL_LAWS[ball.material.law].kernel_constants(ball.material.values)
+    constants = ball.material.kernel_constants()
     # the FE ball weighs exactly the spec mass: density on the faceted mesh volume
     density = ball.mass / float(hex_volumes(mesh.points, mesh.cells).sum())
     scaled = density * mass_scale
     first_dt = estimate_first_step(mesh, constants, scaled) * time_step_scale
     nodes, stiffness = ball_contact_stiffness(mesh, float(constants[0]), scaled, contact, first_dt)
-    return BallBody(mesh, constants, density, nodes, stiffness)
+    return BallBody(mesh, constants, density, nodes, stiffness, ball.material.foam_table())
 
 
 def build_impact_model(ball: BallSpec, setup: ImpactSetup) -> Model:
@@ -196,6 +197,7 @@ def build_impact_model(ball: BallSpec, setup: ImpactSetup) -> Model:
         densities=np.array([body.density]),
         contacts=(RigidContact(setup.test, target, body.nodes, body.stiffness),),
         initial_velocity=velocity,
+        foam=body.foam,
     )
 
 

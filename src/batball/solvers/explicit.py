@@ -22,7 +22,9 @@ import numpy as np
 
 from batball.contact.rigid import N_TARGET_PARAMS, RigidCylinder, RigidPlane
 from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces
+from batball.elements.hex8_foam import N_FOAM_HISTORY, foam_element_forces
 from batball.errors import SimulationError, SpecError
+from batball.materials.foam import FoamTable
 from batball.mesh import Mesh
 from batball.solvers import explicit_kernels as kern
 from batball.solvers.explicit_kernels import lumped_masses, slot_node_ranges
@@ -131,6 +133,9 @@ class Model:
         densities: (n_materials,) [kg/m^3].
         contacts: the rigid targets.
         initial_velocity: (n_points, 3) [m/s].
+        foam: a foam body's packed material (:class:`batball.materials.foam.FoamTable`): every
+            cell is then that foam, run by the foam kernel (``material_constants`` holds its
+            isotropic stand-ins); None for the viscoelastic/elastic kernel.
     """
 
     mesh: Mesh
@@ -139,6 +144,7 @@ class Model:
     densities: np.ndarray
     contacts: tuple[RigidContact, ...]
     initial_velocity: np.ndarray
+    foam: FoamTable | None = None
 
 
 @dataclass
@@ -158,6 +164,7 @@ class State:
     pressure: np.ndarray
     hg_state: np.ndarray
     energies: np.ndarray  # internal, hourglass, bulk viscosity, contact, damping [J]
+    foam_history: np.ndarray = field(default_factory=lambda: np.zeros((0, N_FOAM_HISTORY)))
 
     @property
     def time(self) -> float:
@@ -238,6 +245,7 @@ def initial_state(model: Model) -> State:
         pressure=np.zeros(n_cells),
         hg_state=np.zeros((n_cells, 4, 3)),
         energies=np.zeros(kern.N_ENERGIES),
+        foam_history=np.zeros((n_cells if model.foam else 0, N_FOAM_HISTORY)),
     )
 
 
@@ -359,6 +367,9 @@ class ExplicitSolver:
     def element_forces(self) -> None:
         """Stress update and element nodal forces from x^n and v^(n-1/2)."""
         s, w, m, c = self.state, self.work, self.model, self.controls.hourglass
+        if m.foam is not None:  # foam hook (issue 5): a foam body has its own element kernel
+            foam_element_forces(m, s.points, s.velocities, s.dt, w, s.foam_history, s.hg_state, c)
+            return
         compute_hex8_forces(
             s.points,
             s.velocities,

@@ -14,6 +14,17 @@ A ball spec file looks like the embedded defaults (``specs/data/type1.toml``)::
     g_inf = "750 psi"
     beta = "75000 1/s"
 
+A foam ball (``law = "mat057"`` or ``"mat083"``, :mod:`batball.materials.foam`) gives its scalar
+fields and its loading curve(s) as an array of tables, stresses as numbers in ``stress_unit``::
+
+    [[material.curves]]
+    strain_rate = "0 1/s"            # MAT_083: one curve per rate, rates increasing
+    strain = [0.0, 0.05, 0.2]        # nominal, compression positive
+    stress = [0.0, 150.0, 330.0]
+    stress_unit = "psi"
+
+(``specs/data/foam057.toml`` and ``foam083.toml`` are complete examples.)
+
 A generalised viscoelastic ball (``law = "prony3"``, :mod:`batball.materials.prony`) gives
 ``bulk_modulus``, ``g_inf`` and ``g1``/``beta1`` .. ``g3``/``beta3`` instead of ``g0``, ``g_inf``,
 ``beta``; ``batball calibrate --save`` writes either kind.
@@ -30,13 +41,23 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from batball.errors import SpecError
 from batball.materials import MATERIAL_LAWS, MaterialLaw
+from batball.materials.foam import FoamCurve, FoamLaw, FoamTable
 from batball.specs.document import read_spec_document
 from batball.units import allowed_text, format_quantity, parse_quantity
 
 #: Names of the balls shipped as package data (``specs/data/<name>.toml``): the seed's types 1, 2.
 EMBEDDED_BALLS: tuple[str, ...] = ("type1", "type2")
+
+#: Example balls shipped as package data beside the seed's: foam balls for MAT_057 and MAT_083
+#: (their files say where the numbers come from; issue 5).
+EXAMPLE_BALLS: tuple[str, ...] = ("foam057", "foam083")
+
+#: Keys of one ``[[material.curves]]`` table of a foam ball.
+CURVE_KEYS: tuple[str, ...] = ("strain_rate", "strain", "stress", "stress_unit")
 
 #: Keys of a ball spec document (``description`` is optional).
 BALL_KEYS: tuple[str, ...] = ("name", "description", "circumference", "mass", "material")
@@ -78,14 +99,18 @@ class MaterialSpec:
         law: key of :data:`batball.materials.MATERIAL_LAWS` (``"mat006"``, ``"elastic"``).
         values: ``{parameter name: value}`` in SI (Pa, 1/s, ...), one entry per declared
             parameter of the law, in declaration order.
+        curves: the loading curves of a foam law (MAT_057: one; MAT_083: one per strain rate);
+            empty for the other laws.
 
     Raises:
         SpecError: unknown law, unknown or missing parameter, or a value out of its bounds
-            (field names ``"material.<parameter>"``).
+            (field names ``"material.<parameter>"``); bad or missing curves
+            (``"material.curves[i].stress"``), or curves for a law without them.
     """
 
     law: str
     values: Mapping[str, float]
+    curves: tuple[FoamCurve, ...] = ()
 
     def __post_init__(self) -> None:
         law = material_law(self.law, field="material.law")
@@ -93,6 +118,24 @@ class MaterialSpec:
         law.check(self.values, prefix="material")
         ordered = {p.name: float(self.values[p.name]) for p in law.parameters}
         object.__setattr__(self, "values", ParameterValues(ordered))
+        object.__setattr__(self, "curves", tuple(self.curves))
+        if isinstance(law, FoamLaw):
+            law.check_curves(self.curves, prefix="material")
+        elif self.curves:
+            raise SpecError("material.curves", f"{len(self.curves)} curves", f"none for {law.name}")
+
+    def kernel_constants(self) -> np.ndarray:
+        """The hex kernel's constants of the law (:meth:`MaterialLaw.kernel_constants`); for a
+        foam, its isotropic stand-ins (:meth:`FoamLaw.kernel_constants`)."""
+        law = self.material_law
+        if isinstance(law, FoamLaw):
+            return law.kernel_constants(self.values, self.curves)
+        return law.kernel_constants(self.values)
+
+    def foam_table(self) -> FoamTable | None:
+        """The packed foam constants for the foam kernel, or None for a non-foam law."""
+        law = self.material_law
+        return law.foam_table(self.values, self.curves) if isinstance(law, FoamLaw) else None
 
     @property
     def material_law(self) -> MaterialLaw:
@@ -191,14 +234,51 @@ def material_spec_from_dict(table: object, *, field: str = "material") -> Materi
         _required(table, "law", field=f"{field}.law", allowed=f"one of {names}"),
         field=f"{field}.law",
     )
-    keys = ["law", *[p.name for p in law.parameters]]
+    foam = isinstance(law, FoamLaw)
+    keys = ["law", *[p.name for p in law.parameters], *(["curves"] if foam else [])]
     _reject_unknown_keys(table, keys, prefix=f"{field}.")
     values = {}
     for p in law.parameters:
         path = f"{field}.{p.name}"
         raw = _required(table, p.name, field=path, allowed=allowed_text(p.dimension))
         values[p.name] = parse_quantity(raw, p.dimension, field=path)
-    return MaterialSpec(law=law.name, values=values)
+    curves: tuple[FoamCurve, ...] = ()
+    if foam:
+        raw_curves = _required(
+            table, "curves", field=f"{field}.curves", allowed="[[material.curves]] tables"
+        )
+        if not isinstance(raw_curves, list):
+            raise SpecError(f"{field}.curves", raw_curves, "an array of tables")
+        curves = tuple(
+            curve_from_dict(c, field=f"{field}.curves[{i}]") for i, c in enumerate(raw_curves)
+        )
+    return MaterialSpec(law=law.name, values=values, curves=curves)
+
+
+def curve_from_dict(table: object, *, field: str) -> FoamCurve:
+    """A :class:`FoamCurve` from ``{strain_rate, strain, stress, stress_unit}`` (SI inside).
+
+    Raises:
+        SpecError: naming ``<field>.<key>`` for a missing, unknown or malformed entry.
+    """
+    if not isinstance(table, Mapping):
+        raise SpecError(field, table, "a table with strain, stress and stress_unit")
+    _reject_unknown_keys(table, list(CURVE_KEYS), prefix=f"{field}.")
+    unit = _required(table, "stress_unit", field=f"{field}.stress_unit", allowed="e.g. 'psi'")
+    factor = parse_quantity(f"1 {unit}", "pressure", field=f"{field}.stress_unit")
+    rate = parse_quantity(table.get("strain_rate", "0 1/s"), "frequency",
+                          field=f"{field}.strain_rate")  # fmt: skip
+    columns = {}
+    for key in ("strain", "stress"):
+        raw = _required(table, key, field=f"{field}.{key}", allowed="an array of numbers")
+        numeric = isinstance(raw, list) and all(
+            isinstance(x, int | float) and not isinstance(x, bool) for x in raw
+        )
+        if not numeric:
+            raise SpecError(f"{field}.{key}", raw, "an array of numbers")
+        columns[key] = tuple(float(x) for x in raw)
+    stress = tuple(factor * x for x in columns["stress"])
+    return FoamCurve(strain=columns["strain"], stress=stress, strain_rate=rate)
 
 
 def ball_spec_from_dict(document: Mapping[str, Any], *, source: str) -> BallSpec:
@@ -257,14 +337,18 @@ def load_ball_spec(name_or_path: str | Path) -> BallSpec:
         SpecError: neither an embedded name nor an existing file, invalid TOML, invalid content.
     """
     document, source = read_spec_document(
-        name_or_path, kind="ball", embedded=EMBEDDED_BALLS, file_pattern="{name}.toml"
+        name_or_path,
+        kind="ball",
+        embedded=EMBEDDED_BALLS + EXAMPLE_BALLS,
+        file_pattern="{name}.toml",
     )
     return ball_spec_from_dict(document, source=source)
 
 
-def material_spec_to_toml_dict(spec: MaterialSpec) -> dict[str, str | float]:
-    """The ``[material]`` table of ``spec``: values as strings in their display units."""
-    table: dict[str, str | float] = {"law": spec.law}
+def material_spec_to_toml_dict(spec: MaterialSpec) -> dict[str, Any]:
+    """The ``[material]`` table of ``spec``: values as strings in their display units (and a
+    foam's curves)."""
+    table: dict[str, Any] = {"law": spec.law}
     for p in spec.material_law.parameters:
         value = spec.values[p.name]
         table[p.name] = (
@@ -272,7 +356,21 @@ def material_spec_to_toml_dict(spec: MaterialSpec) -> dict[str, str | float]:
             if p.display_unit == ""
             else format_quantity(value, p.display_unit, digits=_TOML_DIGITS)
         )
+    if spec.curves:
+        table["curves"] = [curve_to_toml_dict(c) for c in spec.curves]
     return table
+
+
+def curve_to_toml_dict(curve: FoamCurve) -> dict[str, Any]:
+    """The ``[[material.curves]]`` table of ``curve``: stresses in psi, 12 digits."""
+    from batball.units import to_unit
+
+    return {
+        "strain_rate": format_quantity(curve.strain_rate, "1/s", digits=_TOML_DIGITS),
+        "strain": list(curve.strain),
+        "stress": [float(f"{to_unit(s, 'psi'):.{_TOML_DIGITS}g}") for s in curve.stress],
+        "stress_unit": "psi",
+    }
 
 
 def ball_spec_to_toml_dict(spec: BallSpec) -> dict[str, Any]:

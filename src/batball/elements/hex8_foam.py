@@ -1,0 +1,309 @@
+"""One-point hex element forces for the foam laws (MAT_057, MAT_083): the foam's own kernel.
+
+It produces exactly what :func:`batball.elements.hex8.compute_hex8_forces` produces (nodal forces
+added into per-slot nodal arrays, volumes, stable steps, per-slot energy increments) and shares
+its geometry, hourglass control, bulk viscosity, nodal forces and stable step (``hex8_geometry``,
+``hex8_kinematics``, ``hex8_response``). What differs is the stress: a foam is a total
+(hyperelastic-like) law of the deformation gradient, not a rate law, so each step
+
+1. F at the element centre from the current and reference nodal coordinates,
+   F = sum_a x_a (x) dV0/dX_a / V0 (the mean-gradient form of the one-point hex, exact for a
+   homogeneous deformation; Flanagan & Belytschko 1981), which on the corner-sign modes is
+   F = sum_k X_k (x) G0_k / V0, the same contraction as the velocity gradient;
+2. the foam stress from F (:func:`batball.materials.foam_update.foam_stress`); objective by
+   construction, since b = F F^T rotates with the body;
+3. MAT_057's rate stress (ED, BETA1), a Maxwell stress E_d int exp(-beta_1 (t - s)) D ds
+   rotated by the step's Hughes-Winget rotation like MAT_006's deviator;
+4. the DAMP stress DAMP rho c L_e D with L_e = V / A_max, the time step's length (so that the
+   step's reduction below is exact however flat a crushed element gets) and c the wave speed;
+5. ``element_response`` with a zero bulk modulus (no separate pressure: the foam's stress is
+   complete) and the effective modulus E_eff for c (time step, hourglass, bulk viscosity), or
+   the element's current unloading tangent where that is stiffer (the HU/SHAPE damage makes
+   unloading up to 1 + 2 SHAPE (1 - HU) times stiffer than loading, which would otherwise
+   break the stable step); the
+   step is divided by DAMP + sqrt(1 + DAMP^2), the reduction a linear viscosity DAMP c causes
+   (the same form as LS-DYNA's Q in the solid time step).
+
+The internal work is the midpoint rule 0.5 (sigma^(n-1) + sigma^n) : D dt V^(n-1/2), as for
+MAT_006, so the energy balance checks the foam's hysteresis as dissipated internal work.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numba as nb
+import numpy as np
+
+from batball.elements.hex8_geometry import (
+    modal_largest_face_area,
+    modal_sums,
+    modal_volume_gradient,
+)
+from batball.elements.hex8_kinematics import (
+    advance_prony_term,
+    cayley_rotation,
+    half_stress_work,
+    midstep_velocity_gradient,
+    velocity_gradient,
+)
+from batball.elements.hex8_response import element_response
+from batball.materials.foam import P_BETA1, P_DAMP, P_ED, P_MODULUS
+from batball.materials.foam_update import H_RATE_STRESS, H_STRESS, N_HISTORY, foam_stress
+from batball.materials.viscoelastic import viscoelastic_step_factors
+
+ENERGY_INTERNAL, ENERGY_HOURGLASS, ENERGY_BULK_VISCOSITY = 0, 1, 2
+_ZERO6 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+@nb.njit(inline="always")
+def _component_sums(values: np.ndarray, cell: np.ndarray, i: int) -> tuple:
+    """Modal sums of component i of the cell's eight node vectors (7-tuple)."""
+    return modal_sums(
+        values[cell[0], i],
+        values[cell[1], i],
+        values[cell[2], i],
+        values[cell[3], i],
+        values[cell[4], i],
+        values[cell[5], i],
+        values[cell[6], i],
+        values[cell[7], i],
+    )
+
+
+@nb.njit(inline="always")
+def cell_modal_sums(values: np.ndarray, cell: np.ndarray) -> tuple:
+    """Modal sums X_1..X_7 (3-tuples) of the node vectors ``values[cell]`` ((n_points, 3))."""
+    sx = _component_sums(values, cell, 0)
+    sy = _component_sums(values, cell, 1)
+    sz = _component_sums(values, cell, 2)
+    return (
+        (sx[0], sy[0], sz[0]),
+        (sx[1], sy[1], sz[1]),
+        (sx[2], sy[2], sz[2]),
+        (sx[3], sy[3], sz[3]),
+        (sx[4], sy[4], sz[4]),
+        (sx[5], sy[5], sz[5]),
+        (sx[6], sy[6], sz[6]),
+    )
+
+
+@nb.njit(inline="always")
+def deformation_gradient(x: tuple, x0: tuple) -> tuple:
+    """F (9-tuple, row-major) from the modal sums of x^n and of the reference X: sum_k X_k (x)
+    G0_k / V0, G0_k = dV0/dX0_k (module docstring, step 1)."""
+    g1, g2, g3, g4, g5, g6, v0 = modal_volume_gradient(x0[0], x0[1], x0[2], x0[3], x0[4], x0[5])
+    return velocity_gradient(x, (g1, g2, g3, g4, g5, g6), v0)
+
+
+@nb.njit(inline="always")
+def _voigt(a: np.ndarray) -> tuple:
+    """The Voigt 6-tuple (xx, yy, zz, xy, yz, zx) of the symmetric 3x3 ``a``."""
+    return (a[0, 0], a[1, 1], a[2, 2], 0.5 * (a[0, 1] + a[1, 0]),
+            0.5 * (a[1, 2] + a[2, 1]), 0.5 * (a[2, 0] + a[0, 2]))  # fmt: skip
+
+
+@nb.njit(inline="always")
+def _fill(target: np.ndarray, t: tuple) -> None:
+    """Write the 9-tuple t (row-major) into the 3x3 ``target``."""
+    for i in range(3):
+        for j in range(3):
+            target[i, j] = t[3 * i + j]
+
+
+@nb.njit(inline="always")
+def _axpy6(a: tuple, b: tuple, s: float) -> tuple:
+    """a + s b for Voigt 6-tuples."""
+    return (a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2],
+            a[3] + s * b[3], a[4] + s * b[4], a[5] + s * b[5])  # fmt: skip
+
+
+@nb.njit(inline="always")
+def _load6(row: np.ndarray, first: int) -> tuple:
+    return (row[first], row[first + 1], row[first + 2],
+            row[first + 3], row[first + 4], row[first + 5])  # fmt: skip
+
+
+@nb.njit(inline="always")
+def _store6(row: np.ndarray, first: int, s: tuple) -> None:
+    for k in range(6):
+        row[first + k] = s[k]
+
+
+@nb.njit
+def foam_element(e, mesh, material, state, outputs, controls, scratch, saved):
+    """Stress update, nodal forces and stable step of cell ``e``; returns its work [J] as
+    (internal, hourglass, bulk viscosity). Arguments as in :func:`compute_foam_forces`;
+    scratch (6, 3, 3) and saved (N_HISTORY,) are work space."""
+    points, velocities, cells, reference = mesh
+    rho0, volume0, table = material
+    history, hg_state = state
+    nodal, cell_volume, cell_dt = outputs  # nodal: the slot's (n_points, 3) force array
+    dt, q1, q2, hg_coefficient, fb, stiff = controls
+    params = table[0]
+    cell = cells[e]
+    row = history[e]
+    x = cell_modal_sums(points, cell)
+    v = cell_modal_sums(velocities, cell)
+    lg, vmid = midstep_velocity_gradient(x, v, dt)
+    dd = (lg[0], lg[4], lg[8], 0.5 * (lg[1] + lg[3]), 0.5 * (lg[5] + lg[7]),
+          0.5 * (lg[6] + lg[2]))  # fmt: skip
+    trd = lg[0] + lg[4] + lg[8]
+    # 1-2: the foam stress from F
+    _fill(scratch[4], deformation_gradient(x, cell_modal_sums(reference, cell)))
+    d_full = (dd[0], dd[3], dd[5], dd[3], dd[1], dd[4], dd[5], dd[4], dd[2])
+    _fill(scratch[5], d_full)
+    saved[:] = row
+    old_row = saved
+    tangent = foam_stress(scratch[4], scratch[5], dt, row, table, scratch)
+    # the wave speed's modulus: E_eff, or the unloading tangent where that is stiffer
+    modulus = max(params[P_MODULUS], tangent + params[P_ED])
+    sigma = _voigt(scratch[3])
+    # 3: MAT_057's Maxwell rate stress, rotated with the step (Jaumann) and advanced
+    q = cayley_rotation(0.5 * (lg[1] - lg[3]), 0.5 * (lg[5] - lg[7]), 0.5 * (lg[6] - lg[2]), dt)
+    decay, scale = viscoelastic_step_factors(0.5 * params[P_ED], 0.0, params[P_BETA1], dt)
+    de = (dd[0] * dt, dd[1] * dt, dd[2] * dt, dd[3] * dt, dd[4] * dt, dd[5] * dt)
+    rate_stress, _ = advance_prony_term(_load6(row, H_RATE_STRESS), q, de, decay, scale)
+    # 4: the DAMP stress, with the current density and the effective wave speed
+    g1, g2, g3, g4, g5, g6, vol = modal_volume_gradient(x[0], x[1], x[2], x[3], x[4], x[5])
+    rho = rho0 * volume0[e] / vol if vol > 0.0 else rho0
+    c = np.sqrt(modulus / rho)
+    length = vol / modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])  # L_e, as dt's
+    damping = params[P_DAMP] * rho * c * abs(length)
+    total = _axpy6(_axpy6(sigma, rate_stress, 1.0), dd, damping)  # shear: tensor components
+    old = _load6(old_row, H_STRESS)
+    dev_work = half_stress_work(old, total, de)
+    hg_old = (
+        (hg_state[e, 0, 0], hg_state[e, 0, 1], hg_state[e, 0, 2]),
+        (hg_state[e, 1, 0], hg_state[e, 1, 1], hg_state[e, 1, 2]),
+        (hg_state[e, 2, 0], hg_state[e, 2, 1], hg_state[e, 2, 2]),
+        (hg_state[e, 3, 0], hg_state[e, 3, 1], hg_state[e, 3, 2]),
+    )
+    _, hg, forces, step, work = element_response(
+        x, v, (g1, g2, g3, g4, g5, g6), total, _ZERO6, hg_old,
+        (vol, volume0[e], trd, vmid, dev_work, 0.0), (rho0, 0.0, modulus),
+        (dt, q1, q2, hg_coefficient), fb, stiff,
+    )  # fmt: skip
+    ok = vol > 0.0
+    if ok:
+        _store6(row, H_RATE_STRESS, rate_stress)
+        _store6(row, H_STRESS, total)
+    else:
+        row[:] = old_row
+    for mode in range(4):
+        for i in range(3):
+            hg_state[e, mode, i] = hg[mode][i]
+    for a in range(8):
+        for i in range(3):
+            nodal[cell[a], i] += forces[i][a]
+    cell_volume[e] = vol
+    damp = params[P_DAMP]
+    cell_dt[e] = step / (damp + np.sqrt(1.0 + damp * damp))
+    return work
+
+
+@nb.njit(parallel=True, cache=True)
+def _foam_forces(mesh, material, state, outputs, energy_increments, controls):
+    """All cells in the slots of ``nodal_forces`` (rows of ``energy_increments``), in parallel, as
+    :func:`batball.elements.hex8.compute_hex8_forces` splits them."""
+    # the parallel loop takes plain arrays: tuples of arrays are rebuilt inside its body
+    points, velocities, cells, reference = mesh
+    rho0, volume0, table = material
+    params, rates, strains, stresses, counts, energies = table
+    history, hg_state = state
+    nodal_forces, cell_volume, cell_dt = outputs
+    n_cells = cells.shape[0]
+    n_chunks = energy_increments.shape[0]
+    for chunk in nb.prange(n_chunks):
+        first = chunk * n_cells // n_chunks
+        end = (chunk + 1) * n_cells // n_chunks
+        scratch = np.empty((6, 3, 3))
+        saved = np.empty(N_HISTORY)
+        internal = 0.0
+        hourglass = 0.0
+        bulk = 0.0
+        for e in range(first, end):
+            work = foam_element(
+                e, (points, velocities, cells, reference),
+                (rho0, volume0, (params, rates, strains, stresses, counts, energies)),
+                (history, hg_state), (nodal_forces[chunk], cell_volume, cell_dt), controls, scratch,
+                saved,
+            )  # fmt: skip
+            internal += work[0]
+            hourglass += work[1]
+            bulk += work[2]
+        energy_increments[chunk, ENERGY_INTERNAL] = internal
+        energy_increments[chunk, ENERGY_HOURGLASS] = hourglass
+        energy_increments[chunk, ENERGY_BULK_VISCOSITY] = bulk
+
+
+def compute_foam_forces(
+    points: np.ndarray,
+    velocities: np.ndarray,
+    cells: np.ndarray,
+    reference: np.ndarray,
+    dt: float,
+    density: float,
+    volume0: np.ndarray,
+    table: tuple[np.ndarray, ...],
+    history: np.ndarray,
+    hg_state: np.ndarray,
+    hg_type: int,
+    hg_coefficient: float,
+    q1: float,
+    q2: float,
+    nodal_forces: np.ndarray,
+    cell_volume: np.ndarray,
+    cell_dt: np.ndarray,
+    energy_increments: np.ndarray,
+) -> None:
+    """Element forces, foam stress update and stable steps of all hexes for one explicit cycle.
+
+    Args:
+        points: (n_points, 3) x^n [m]; velocities: (n_points, 3) v^(n-1/2) [m/s];
+        cells: (n_cells, 8) node ids; reference: (n_points, 3) the undeformed coordinates [m];
+        dt: the step dt^(n-1/2) that led to x^n [s].
+        density: the foam's initial density [kg/m^3]; volume0: (n_cells,) initial volumes [m^3].
+        table: :meth:`batball.materials.foam.FoamTable.arrays` of the (one) foam material.
+        history: (n_cells, N_HISTORY) the foam history (``foam_update.H_*``), updated in place;
+        hg_state: (n_cells, 4, 3) stiffness-form hourglass forces [N], updated in place.
+        hg_type, hg_coefficient, q1, q2: as in :func:`batball.elements.hex8.compute_hex8_forces`.
+        nodal_forces, cell_volume, cell_dt, energy_increments: outputs, as there (the forces
+            are added into the slots of ``nodal_forces``).
+    """
+    if history.shape != (cells.shape[0], N_HISTORY):
+        raise ValueError(f"history has shape {history.shape}; expected ({cells.shape[0]}, 14)")
+    fb, stiff = hg_type >= 2, hg_type >= 4
+    _foam_forces(
+        (points, velocities, cells, reference),
+        (float(density), volume0, table),
+        (history, hg_state),
+        (nodal_forces, cell_volume, cell_dt),
+        energy_increments,
+        (float(dt), float(q1), float(q2), float(hg_coefficient), fb, stiff),
+    )
+
+
+#: Columns of a foam body's per-cell history (solver state ``foam_history``).
+N_FOAM_HISTORY = N_HISTORY
+
+
+def foam_element_forces(
+    model: Any,
+    points: np.ndarray,
+    velocities: np.ndarray,
+    dt: float,
+    work: Any,
+    history: np.ndarray,
+    hg_state: np.ndarray,
+    hourglass: Any,
+) -> None:
+    """The solver's one call into this kernel (``ExplicitSolver.element_forces``): the foam
+    body of ``model`` (``model.foam``) with the solver's workspace ``work`` (volume0, q1, q2 and
+    the output arrays) and hourglass control."""
+    compute_foam_forces(
+        points, velocities, model.mesh.cells, model.mesh.points, dt,
+        float(model.densities[0]), work.volume0, model.foam.arrays(), history, hg_state,
+        hourglass.type, hourglass.coefficient, work.q1, work.q2,
+        work.nodal_forces, work.cell_volume, work.cell_dt, work.energy_increments,
+    )  # fmt: skip

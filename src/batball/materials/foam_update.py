@@ -1,0 +1,252 @@
+"""Pointwise stress update of the foam laws MAT_057 and MAT_083 (Numba).
+
+The law and its sources are described in :mod:`batball.materials.foam`. Here: loading-curve
+interpolation, the curve energy, a Jacobi eigen-decomposition of b = F F^T, and the update of one
+point from its deformation gradient. The table arrays are those of
+:meth:`batball.materials.foam.FoamLaw.foam_table`: ``params`` (columns ``P_*``), ``rates``
+(n_curves,), ``strains``/``stresses`` (n_curves, n_max), ``counts`` (n_curves,), ``energies``
+(n_max,). A point's history row holds ``H_*``.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+from batball.materials.foam import (
+    KIND_MAT083,
+    P_E,
+    P_HU,
+    P_KIND,
+    P_RATE_FILTER,
+    P_SHAPE,
+    P_TC,
+)
+
+# Columns of a point's history: the Maxwell rate stress of MAT_057 (Voigt, 6), the total stress
+# of the last step (Voigt, 6; for the energy), W_max [J/m^3], the filtered strain rate [1/s].
+H_RATE_STRESS, H_STRESS, H_WMAX, H_RATE = 0, 6, 12, 13
+N_HISTORY = 14
+
+
+@nb.njit(inline="always")
+def _segment(strains: np.ndarray, count: int, s: float) -> int:
+    """The segment k (points k, k+1) holding strain s; the last one beyond the curve."""
+    k = 0
+    while k < count - 2 and s > strains[k + 1]:
+        k += 1
+    return k
+
+
+@nb.njit(inline="always")
+def curve_stress(strains: np.ndarray, stresses: np.ndarray, count: int, s: float) -> float:
+    """Loading-curve stress at compressive strain s >= 0 [Pa]: linear between points, extended
+    with the last segment's slope beyond the last point (LS-DYNA's curve extrapolation)."""
+    k = _segment(strains, count, s)
+    slope = (stresses[k + 1] - stresses[k]) / (strains[k + 1] - strains[k])
+    return stresses[k] + slope * (s - strains[k])
+
+
+@nb.njit(inline="always")
+def curve_energy(
+    strains: np.ndarray, stresses: np.ndarray, energies: np.ndarray, count: int, s: float
+) -> float:
+    """Energy density int_0^s f(x) dx under the piecewise-linear curve [J/m^3]."""
+    k = _segment(strains, count, s)
+    slope = (stresses[k + 1] - stresses[k]) / (strains[k + 1] - strains[k])
+    d = s - strains[k]
+    return energies[k] + stresses[k] * d + 0.5 * slope * d * d
+
+
+@nb.njit(inline="always")
+def rate_curve_stress(
+    rates: np.ndarray,
+    strains: np.ndarray,
+    stresses: np.ndarray,
+    counts: np.ndarray,
+    rate: float,
+    s: float,
+) -> float:
+    """MAT_083's table: the stress at strain s, linear in the rate between the two curves that
+    bracket ``rate``; the first curve below the lowest rate, the last above the highest."""
+    n = rates.shape[0]
+    if rate <= rates[0] or n == 1:
+        return curve_stress(strains[0], stresses[0], counts[0], s)
+    if rate >= rates[n - 1]:
+        return curve_stress(strains[n - 1], stresses[n - 1], counts[n - 1], s)
+    j = 0
+    while rate > rates[j + 1]:
+        j += 1
+    w = (rate - rates[j]) / (rates[j + 1] - rates[j])
+    low = curve_stress(strains[j], stresses[j], counts[j], s)
+    high = curve_stress(strains[j + 1], stresses[j + 1], counts[j + 1], s)
+    return (1.0 - w) * low + w * high
+
+
+@nb.njit(inline="always")
+def _rotate(a: np.ndarray, v: np.ndarray, p: int, q: int) -> None:
+    """One Jacobi rotation zeroing a[p, q] of the symmetric a; accumulates it into v."""
+    theta = (a[q, q] - a[p, p]) / (2.0 * a[p, q])
+    t = np.sign(theta) / (abs(theta) + np.sqrt(theta * theta + 1.0)) if theta != 0.0 else 1.0
+    c = 1.0 / np.sqrt(t * t + 1.0)
+    s = t * c
+    for k in range(3):  # columns p, q of a V-style rotation: a <- J^T a J
+        akp, akq = a[k, p], a[k, q]
+        a[k, p], a[k, q] = c * akp - s * akq, s * akp + c * akq
+    for k in range(3):
+        apk, aqk = a[p, k], a[q, k]
+        a[p, k], a[q, k] = c * apk - s * aqk, s * apk + c * aqk
+    for k in range(3):
+        vkp, vkq = v[k, p], v[k, q]
+        v[k, p], v[k, q] = c * vkp - s * vkq, s * vkp + c * vkq
+
+
+@nb.njit
+def symmetric_eigen(a: np.ndarray, v: np.ndarray) -> None:
+    """Eigen-decomposition of the symmetric 3x3 ``a`` by cyclic Jacobi rotations, in place:
+    on return the diagonal of ``a`` holds the eigenvalues and the columns of ``v`` the unit
+    eigenvectors (Golub & Van Loan, Matrix Computations, section 8.5). Exact for repeated
+    eigenvalues, which a closed-form cubic solution is not (the undeformed b = I)."""
+    v[:, :] = 0.0
+    v[0, 0] = v[1, 1] = v[2, 2] = 1.0
+    scale = abs(a[0, 0]) + abs(a[1, 1]) + abs(a[2, 2])
+    for _sweep in range(12):
+        off = abs(a[0, 1]) + abs(a[1, 2]) + abs(a[0, 2])
+        if off <= 1e-15 * scale:
+            return
+        for p, q in ((0, 1), (0, 2), (1, 2)):
+            if a[p, q] != 0.0:
+                _rotate(a, v, p, q)
+
+
+@nb.njit(inline="always")
+def tension_stress_energy(e: float, young: float, cutoff: float) -> tuple[float, float]:
+    """Tension (e >= 0): nominal stress min(E e, TC) [Pa] and its energy density [J/m^3]."""
+    if young * e <= cutoff:
+        return young * e, 0.5 * young * e * e
+    return cutoff, 0.5 * cutoff * cutoff / young + cutoff * (e - cutoff / young)
+
+
+@nb.njit(inline="always")
+def hysteresis_factor(w: float, w_max: float, hu: float, shape: float) -> float:
+    """1 - D with D = (1 - HU) (1 - (W / W_max)^SHAPE) while unloading (W < W_max), else 1."""
+    if w >= w_max or w_max <= 0.0:
+        return 1.0
+    return 1.0 - (1.0 - hu) * (1.0 - (max(w, 0.0) / w_max) ** shape)
+
+
+@nb.njit(inline="always")
+def curve_slope(strains: np.ndarray, stresses: np.ndarray, count: int, s: float) -> float:
+    """The loading curve's slope at compressive strain s [Pa]."""
+    k = _segment(strains, count, s)
+    return (stresses[k + 1] - stresses[k]) / (strains[k + 1] - strains[k])
+
+
+@nb.njit
+def principal_nominal_stresses(
+    stretches: np.ndarray,
+    rate: float,
+    history: np.ndarray,
+    table: tuple[np.ndarray, ...],
+    out: np.ndarray,
+) -> float:
+    """Nominal stresses tau_i [Pa] (tension positive) of the three principal stretches into
+    ``out`` (3,), updating W_max in ``history``; returns the largest Cauchy tangent
+    lambda_i^2 / J d tau_i / d e_i [Pa] (E for a direction in tension or on a MAT_083 rate
+    curve, whose slopes E_eff covers); > the nominal one where a point is compressed in more
+    than one direction (sigma_i = tau_i lambda_i / J).
+
+    Loading (W >= W_max): the loading curve (MAT_083: interpolated at ``rate``); unloading: the
+    first curve times 1 - D (:func:`hysteresis_factor`); tension E e up to TC, undamaged.
+    While unloading the tangent is (1 - D) f' + (1 - HU) SHAPE (W / W_max)^(SHAPE - 1) f^2 / W_max
+    (dW / de_i = f_i): up to 1 + 2 SHAPE (1 - HU) times the loading slope at the turning point,
+    which the time step must see (LAW90 likewise updates an effective modulus).
+    """
+    params, rates, strains, stresses, counts, energies = table
+    young, cutoff = params[P_E], params[P_TC]
+    w = 0.0
+    for i in range(3):
+        e = stretches[i] - 1.0
+        if e < 0.0:
+            w += curve_energy(strains[0], stresses[0], energies, counts[0], -e)
+        else:
+            w += tension_stress_energy(e, young, cutoff)[1]
+    w_max = history[H_WMAX]
+    loading = w >= w_max
+    factor = hysteresis_factor(w, w_max, params[P_HU], params[P_SHAPE])
+    growth = 0.0  # d(1 - D)/dW while unloading
+    if loading:
+        history[H_WMAX] = w
+    elif w > 0.0:
+        shape = params[P_SHAPE]
+        growth = (1.0 - params[P_HU]) * shape * (w / w_max) ** (shape - 1.0) / w_max
+    rated = params[P_KIND] == KIND_MAT083 and loading
+    jacobian = stretches[0] * stretches[1] * stretches[2]
+    tangent = 0.0
+    for i in range(3):
+        e = stretches[i] - 1.0
+        slope = young
+        if e >= 0.0:
+            out[i] = tension_stress_energy(e, young, cutoff)[0]
+        elif rated:
+            out[i] = -rate_curve_stress(rates, strains, stresses, counts, rate, -e)
+        else:
+            f = curve_stress(strains[0], stresses[0], counts[0], -e)
+            out[i] = -factor * f
+            slope = factor * curve_slope(strains[0], stresses[0], counts[0], -e) + growth * f * f
+        # the Cauchy tangent d sigma_i / d ln lambda_i = lambda_i^2 / J d tau_i / d e_i
+        tangent = max(tangent, slope * stretches[i] * stretches[i] / jacobian)
+    return tangent
+
+
+@nb.njit
+def filtered_rate(previous: float, rate: float, cutoff: float, dt: float) -> float:
+    """First-order low-pass filter of the strain rate with cut-off ``cutoff`` [1/s] (as 2 pi f)."""
+    alpha = 1.0 - np.exp(-2.0 * np.pi * cutoff * dt)
+    return previous + alpha * (rate - previous)
+
+
+@nb.njit
+def foam_stress(
+    f: np.ndarray,
+    d: np.ndarray,
+    dt: float,
+    history: np.ndarray,
+    table: tuple[np.ndarray, ...],
+    scratch: np.ndarray,
+) -> float:
+    """Foam Cauchy stress of one point from its deformation gradient, into ``scratch[3]``;
+    returns the largest principal Cauchy tangent modulus [Pa] (:func:`principal_nominal_stresses`).
+
+    Args:
+        f: (3, 3) deformation gradient F; d: (3, 3) rate of deformation D [1/s] (MAT_083's rate).
+        dt: the step [s]; history: the point's row (``H_*``), W_max and the rate updated.
+        table: the material's packed arrays (module docstring).
+        scratch: (4, 3, 3) work space; on return scratch[3] is sigma [Pa] (symmetric).
+    """
+    b, vectors, sigma = scratch[0], scratch[1], scratch[3]
+    for i in range(3):
+        for j in range(3):
+            b[i, j] = f[i, 0] * f[j, 0] + f[i, 1] * f[j, 1] + f[i, 2] * f[j, 2]
+    symmetric_eigen(b, vectors)
+    stretches = scratch[2, 0]
+    for i in range(3):
+        stretches[i] = np.sqrt(max(b[i, i], 1e-300))
+    # MAT_083's scalar rate: true strain rate along the most compressed direction (RFLAG = 0)
+    m = np.argmin(stretches)
+    rate = 0.0
+    for i in range(3):
+        for j in range(3):
+            rate -= vectors[i, m] * d[i, j] * vectors[j, m]
+    params = table[0]
+    history[H_RATE] = filtered_rate(history[H_RATE], max(rate, 0.0), params[P_RATE_FILTER], dt)
+    tau = scratch[2, 1]
+    tangent = principal_nominal_stresses(stretches, history[H_RATE], history, table, tau)
+    jacobian = stretches[0] * stretches[1] * stretches[2]
+    for i in range(3):
+        for j in range(3):
+            total = 0.0
+            for k in range(3):
+                total += tau[k] * stretches[k] / jacobian * vectors[i, k] * vectors[j, k]
+            sigma[i, j] = total
+    return tangent

@@ -1,0 +1,62 @@
+"""The foam element kernel on one homogeneously deformed hex against closed forms."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from batball.elements.hex8_foam import N_FOAM_HISTORY, compute_foam_forces
+from batball.elements.hex8_geometry import REFERENCE_CORNERS
+from batball.specs import load_ball_spec
+
+SIDE = 0.01  # m
+DENSITY = 400.0  # kg/m^3
+
+
+def _run(points: np.ndarray, reference: np.ndarray, name: str = "foam057"):
+    """Forces (8, 3) [N], volume, stable step of one cell deformed from ``reference``."""
+    material = load_ball_spec(name).material
+    cells = np.arange(8)[None, :]
+    forces = np.zeros((1, 8, 3))  # one slot of the 8 nodes
+    volume, step = np.zeros(1), np.zeros(1)
+    energy = np.zeros((1, 3))
+    compute_foam_forces(
+        points, np.zeros((8, 3)), cells, reference, 1e-7, DENSITY, np.array([SIDE**3]),
+        material.foam_table().arrays(), np.zeros((1, N_FOAM_HISTORY)), np.zeros((1, 4, 3)),
+        1, 0.1, 1.5, 0.06, forces, volume, step, energy,
+    )  # fmt: skip
+    return forces[0], volume[0], step[0], energy
+
+
+def test_uniaxial_compression_gives_the_curve_force_on_each_face() -> None:
+    reference = 0.5 * SIDE * (REFERENCE_CORNERS + 1.0)
+    s = 0.25
+    points = reference * np.array([1.0 - s, 1.0, 1.0])
+    forces, volume, step, energy = _run(points, reference)
+    material = load_ball_spec("foam057").material
+    curve = material.curves[0]
+    nominal = np.interp(s, curve.strain, curve.stress)  # Pa; the sides keep their area SIDE^2
+    plus_x = REFERENCE_CORNERS[:, 0] > 0
+    assert forces[plus_x, 0].sum() == pytest.approx(nominal * SIDE**2, rel=1e-12)
+    assert forces[~plus_x, 0].sum() == pytest.approx(-nominal * SIDE**2, rel=1e-12)
+    assert np.abs(forces[:, 1:]).max() < 1e-12 * nominal * SIDE**2  # no lateral coupling
+    assert volume == pytest.approx(SIDE**3 * (1.0 - s), rel=1e-12)
+    # L_e = V / A_max = SIDE (1 - s); c^2 = E_eff / rho, rho = rho0 / (1 - s); DAMP reduction
+    e_eff = material.values["curve_scale"] * curve.max_slope()
+    c = np.sqrt(e_eff / (DENSITY / (1.0 - s)))
+    damp = material.values["damp"]
+    assert step == pytest.approx(SIDE * (1.0 - s) / c / (damp + np.sqrt(1 + damp**2)), rel=1e-12)
+    assert np.abs(energy).max() == 0.0  # at rest: no work
+
+
+@pytest.mark.parametrize("name", ["foam057", "foam083"])
+def test_rigidly_rotated_element_has_rotated_forces(name: str) -> None:
+    reference = 0.5 * SIDE * (REFERENCE_CORNERS + 1.0)
+    stretch = np.array([[0.8, 0.05, 0.0], [0.0, 0.95, 0.02], [0.03, 0.0, 1.05]])
+    angle = 0.7
+    r = np.array(
+        [[np.cos(angle), -np.sin(angle), 0.0], [np.sin(angle), np.cos(angle), 0.0], [0, 0, 1]]
+    )
+    forces, *_ = _run(reference @ stretch.T, reference, name)
+    rotated, *_ = _run(reference @ stretch.T @ r.T, reference, name)
+    assert np.abs(rotated - forces @ r.T).max() < 1e-10 * np.abs(forces).max()
