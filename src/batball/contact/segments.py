@@ -145,40 +145,46 @@ def search_candidates(points: np.ndarray, slave_nodes: np.ndarray, segments: np.
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
-def project_on_segment(x: np.ndarray, corners: np.ndarray) -> tuple[float, float, float, float,
-                                                                    float, float]:  # fmt: skip
-    """(xi, eta, d, n_x, n_y, n_z): bilinear coordinates of x's projection on the quad's plane,
-    its signed distance d from the centroid plane and the unit normal (right-hand rule)."""
-    d13 = corners[2] - corners[0]
-    d24 = corners[3] - corners[1]
-    n = np.array([d13[1] * d24[2] - d13[2] * d24[1], d13[2] * d24[0] - d13[0] * d24[2],
-                  d13[0] * d24[1] - d13[1] * d24[0]])  # fmt: skip
-    n /= np.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
-    centre = 0.25 * (corners[0] + corners[1] + corners[2] + corners[3])
-    r = x - centre
-    d = r[0] * n[0] + r[1] * n[1] + r[2] * n[2]
+def project_on_segment(
+    x: np.ndarray, c: np.ndarray, scratch: np.ndarray
+) -> tuple[float, float, float, float, float, float]:
+    """(xi, eta, d, n_x, n_y, n_z): bilinear coordinates of x's projection on the quad ``c``
+    (4, 3), its signed distance d from the centroid plane and the unit normal (right-hand rule).
+    ``scratch`` (3, 3) is work space, so the contact loop allocates nothing."""
+    a0, a1, a2 = c[2, 0] - c[0, 0], c[2, 1] - c[0, 1], c[2, 2] - c[0, 2]
+    b0, b1, b2 = c[3, 0] - c[1, 0], c[3, 1] - c[1, 1], c[3, 2] - c[1, 2]
+    n0, n1, n2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+    norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+    n0, n1, n2 = n0 / norm, n1 / norm, n2 / norm
+    r0 = x[0] - 0.25 * (c[0, 0] + c[1, 0] + c[2, 0] + c[3, 0])
+    r1 = x[1] - 0.25 * (c[0, 1] + c[1, 1] + c[2, 1] + c[3, 1])
+    r2 = x[2] - 0.25 * (c[0, 2] + c[1, 2] + c[2, 2] + c[3, 2])
+    d = r0 * n0 + r1 * n1 + r2 * n2
     xi, eta = 0.0, 0.0
-    for _ in range(3):  # Newton on x_plane = sum N_a(xi, eta) x_a, in the tangent plane
-        g_xi = 0.25 * (
-            (corners[1] - corners[0]) * (1 - eta) + (corners[2] - corners[3]) * (1 + eta)
-        )
-        g_eta = 0.25 * ((corners[3] - corners[0]) * (1 - xi) + (corners[2] - corners[1]) * (1 + xi))
-        mapped = 0.25 * (
-            corners[0] * (1 - xi) * (1 - eta)
-            + corners[1] * (1 + xi) * (1 - eta)
-            + corners[2] * (1 + xi) * (1 + eta)
-            + corners[3] * (1 - xi) * (1 + eta)
-        )
-        res = x - d * n - mapped
-        a11 = g_xi @ g_xi
-        a12 = g_xi @ g_eta
-        a22 = g_eta @ g_eta
-        b1 = g_xi @ res
-        b2 = g_eta @ res
+    g_xi, g_eta, res = scratch[0], scratch[1], scratch[2]
+    for _ in range(3):  # Newton on x - d n = sum N_a(xi, eta) x_a in the tangent plane
+        for k in range(3):
+            g_xi[k] = 0.25 * ((c[1, k] - c[0, k]) * (1 - eta) + (c[2, k] - c[3, k]) * (1 + eta))
+            g_eta[k] = 0.25 * ((c[3, k] - c[0, k]) * (1 - xi) + (c[2, k] - c[1, k]) * (1 + xi))
+            mapped = 0.25 * (
+                c[0, k] * (1 - xi) * (1 - eta)
+                + c[1, k] * (1 + xi) * (1 - eta)
+                + c[2, k] * (1 + xi) * (1 + eta)
+                + c[3, k] * (1 - xi) * (1 + eta)
+            )
+            res[k] = x[k] - mapped
+        res[0] -= d * n0
+        res[1] -= d * n1
+        res[2] -= d * n2
+        a11 = g_xi[0] * g_xi[0] + g_xi[1] * g_xi[1] + g_xi[2] * g_xi[2]
+        a12 = g_xi[0] * g_eta[0] + g_xi[1] * g_eta[1] + g_xi[2] * g_eta[2]
+        a22 = g_eta[0] * g_eta[0] + g_eta[1] * g_eta[1] + g_eta[2] * g_eta[2]
+        q1 = g_xi[0] * res[0] + g_xi[1] * res[1] + g_xi[2] * res[2]
+        q2 = g_eta[0] * res[0] + g_eta[1] * res[1] + g_eta[2] * res[2]
         det = a11 * a22 - a12 * a12
-        xi += (a22 * b1 - a12 * b2) / det
-        eta += (a11 * b2 - a12 * b1) / det
-    return xi, eta, d, n[0], n[1], n[2]
+        xi += (a22 * q1 - a12 * q2) / det
+        eta += (a11 * q2 - a12 * q1) / det
+    return xi, eta, d, n0, n1, n2
 
 
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
@@ -203,6 +209,7 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
     """
     for n in nb.prange(slave_nodes.shape[0]):
         corners = np.empty((4, 3))
+        scratch = np.empty((3, 3))
         x = points[slave_nodes[n]]
         best, best_p, bxi, beta = -1, 0.0, 0.0, 0.0
         bn = np.zeros(3)
@@ -210,7 +217,7 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
             s = candidates[n, c]
             for a in range(4):
                 corners[a] = points[segments[s, a]]
-            xi, eta, d, n0, n1, n2 = project_on_segment(x, corners)
+            xi, eta, d, n0, n1, n2 = project_on_segment(x, corners, scratch)
             if abs(xi) > 1.0 + EDGE_TOLERANCE or abs(eta) > 1.0 + EDGE_TOLERANCE:
                 continue
             reach = slave_thickness[n] + segment_thickness[s]
