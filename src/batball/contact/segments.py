@@ -19,7 +19,9 @@ physics.md section 6.6.
   thicknesses). A solid face is one-sided: penetration t_s + t_m - d for -depth < d, along n
   (outward). Each slave takes the segment with the deepest penetration.
 * Force: f = k p on the slave node, -f N_a(xi, eta) on the segment's four nodes (equal and
-  opposite, so the pair conserves momentum). The slave loop runs in parallel and writes its own
+  opposite, so the pair conserves momentum; the weights are not clipped at the edge tolerance,
+  so sum N_a x_a is the projected point and the pair, acting along n, has no moment: angular
+  momentum is conserved too). The slave loop runs in parallel and writes its own
   rows only; the master forces are added afterwards in one serial pass over the touching slaves:
   no data race.
 """
@@ -237,8 +239,7 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
         f = slave_stiffness[n] * best_p
         for k in range(3):
             slave_force[n, k] = f * bn[k] if best >= 0 else 0.0
-        xi = min(max(bxi, -1.0), 1.0)
-        eta = min(max(beta, -1.0), 1.0)
+        xi, eta = bxi, beta  # unclipped: sum N_a x_a is the contact point, so no spurious torque
         weights[n, 0] = 0.25 * (1 - xi) * (1 - eta)
         weights[n, 1] = 0.25 * (1 + xi) * (1 - eta)
         weights[n, 2] = 0.25 * (1 + xi) * (1 + eta)
