@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import pytest
 
+from batball.lab.barrel import thin_ring_interference_pressure
 from batball.lab.bbs import BbsResult, BbsSetup, run_bbs
 from batball.lab.props import bat_mass_properties
 from batball.solvers.explicit import HourglassControl
@@ -42,7 +43,7 @@ def runs() -> dict[str, BbsResult]:
         "fixed": BbsSetup(fixed_bat=True, **COARSE),
         "rigid": BbsSetup(rigid_bat=True, **COARSE),
         "rigid_24in": BbsSetup(rigid_bat=True, pivot_from_knob=24.0 * IN, **COARSE),
-        "deformable": BbsSetup(**COARSE),
+        "deformable": BbsSetup(**{**COARSE, "circumferential": 16, "axial_size": 0.5 * IN}),
     }
     return {name: run_bbs(bat, ball, setup) for name, setup in setups.items()}
 
@@ -69,14 +70,28 @@ def test_angular_momentum_about_the_pivot_is_conserved(
     runs: dict[str, BbsResult], name: str
 ) -> None:
     m = runs[name].measures
-    assert m.angular_momentum_change < 1e-5
+    # rigid: exact up to round-off (2e-7 measured); deformable: the one-point Belytschko-Tsay
+    # element's forces balance moments only on flat quads (its known warping defect), and the
+    # pre-stressed barrel's stresses act on slightly warped taper quads (2e-5 measured)
+    assert m.angular_momentum_change < (1e-5 if name == "rigid" else 5e-5)
     assert m.energy_balance_error < 0.01
     assert m.rebound_drift < 1e-6 * m.inbound_speed  # the ball's speed is steady at the end
 
 
 def test_pivot_moi_is_the_f2398_moi(runs: dict[str, BbsResult]) -> None:
     props, _ = bat_mass_properties(
-        load_bat_spec("default"), circumferential=12, axial_size=0.75 * IN
+        load_bat_spec("default"), circumferential=16, axial_size=0.5 * IN
     )
     # lumping each quad's mass to its corners adds about m h^2 / 6 (lab/props docs): < 0.1 %
     assert runs["deformable"].measures.pivot_inertia == pytest.approx(props.moi_pivot, rel=1e-3)
+
+
+def test_dynamic_relaxation_presses_the_insert_to_the_thin_ring_pressure(
+    runs: dict[str, BbsResult],
+) -> None:
+    """physics.md 6.7: p = delta / (R_o^2 / (E_o t_o) + R_i^2 / (E_i t_i)), 92.9 psi for the
+    default bat; 5 %: the explicit penalty's own compliance (SLSFAC E A / diagonal) takes about
+    2 % of the 0.001 in, the 16-sided sections the rest (lab/barrel's static solve: 0.1 %)."""
+    spec = load_bat_spec("default")
+    expected = thin_ring_interference_pressure(spec)
+    assert runs["deformable"].run.interference_pressure == pytest.approx(expected, rel=0.05)

@@ -72,6 +72,9 @@ class BbsSetup:
         fixed_bat: the bat held still (k = 0: the ball's COR on this target).
         insert_contact: the insert touches the barrel (else it floats free, for tests).
         search_interval: cycles between contact searches.
+        prestress: press the insert in by dynamic relaxation before the impact (else its
+            initial overlap is ignored and it just touches the barrel).
+        relax_steps: (ramp, settle) cycles of that relaxation.
     """
 
     speed: float = 110.0 * MPH
@@ -94,6 +97,8 @@ class BbsSetup:
     fixed_bat: bool = False
     insert_contact: bool = True
     search_interval: int = 10
+    prestress: bool = True
+    relax_steps: tuple[int, int] = (400, 800)
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.speed) and 0 < self.speed <= 100.0):
@@ -130,6 +135,7 @@ class BbsModel:
     ball_cells: np.ndarray
     impact_x: float
     pivot_x: float
+    interference: float = 0.0
 
     @property
     def z(self) -> float:
@@ -285,15 +291,41 @@ def build_bbs_model(spec: BatSpec, ball: BallSpec, setup: BbsSetup) -> BbsModel:
         contacts = (*contacts, insert_barrel_contact(spec, bat, mesh, setup))
     coupled = CoupledModel(points, velocity, ball_part, bat, contacts, 2,
                            initial_force_state(bat.section))  # fmt: skip
-    return BbsModel(coupled, mesh, body.mesh.cells, impact_x, setup.pivot_from_knob)
+    interference = spec.insert.interference if spec.insert is not None else 0.0
+    return BbsModel(coupled, mesh, body.mesh.cells, impact_x, setup.pivot_from_knob, interference)
 
 
 def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
-    """Run the coupled model to the end time or separation."""
+    """Pre-stress the bat (when asked and it has an insert), then run the impact to the end
+    time or separation."""
     controls = CoupledControls(end_time=setup.end_time, time_step_scale=setup.time_step_scale,
                                search_interval=setup.search_interval,
                                separation_time=setup.separation_time)  # fmt: skip
-    return CoupledSolver(model.coupled, controls).run()
+    solver = CoupledSolver(model.coupled, controls)
+    inserts = model.coupled.contacts[model.coupled.ball_contacts :]
+    ratio, pressure = float("nan"), float("nan")
+    if setup.prestress and inserts:
+        ratio = solver.relax_bat(interference=model.interference,
+                                 ramp_steps=setup.relax_steps[0],
+                                 settle_steps=setup.relax_steps[1])  # fmt: skip
+        pressure = insert_pressure(model, solver.points)
+    result = solver.run()
+    result.prestress_kinetic_ratio, result.interference_pressure = ratio, pressure
+    return result
+
+
+def insert_pressure(model: BbsModel, points: np.ndarray) -> float:
+    """Mean contact pressure between insert and barrel [Pa]: the insert contact's total normal
+    force over the insert's outer area (as lab/barrel's mean interference pressure)."""
+    pair = model.coupled.contacts[model.coupled.ball_contacts]
+    pair.search(points)
+    pair.add_forces(points, np.zeros_like(points))
+    mesh = model.bat_mesh
+    insert_cells = mesh.cell_sets["insert"]
+    radius = np.hypot(mesh.points[pair.slave_nodes, 1], mesh.points[pair.slave_nodes, 2])
+    areas = nodal_areas(mesh.points, mesh.cells[insert_cells])[pair.slave_nodes]
+    outer_area = np.sum(areas * (radius + pair.slave_thickness) / radius)
+    return float(np.linalg.norm(pair.slave_force, axis=1).sum() / outer_area)
 
 
 @dataclass(frozen=True)

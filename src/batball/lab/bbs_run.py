@@ -30,6 +30,7 @@ from batball.specs import BallSpec, BatSpec, ball_spec_to_toml_dict, bat_spec_to
 MPH = 0.44704  # m/s
 LBF = 4.4482216152605  # N
 IN = 0.0254  # m
+PSI = 6894.757293168361  # Pa
 OZ_IN2 = 0.028349523125 * IN**2  # kg m^2
 
 
@@ -69,6 +70,9 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         "pivot_moi_oz_in2": m.pivot_inertia / OZ_IN2,
         "pivot_to_impact_in": m.z / IN,
         "rigid_bat": setup.rigid_bat,
+        "prestress": setup.prestress,
+        "prestress_kinetic_ratio": run.prestress_kinetic_ratio,
+        "interference_pressure_psi": run.interference_pressure / PSI,
         "n_shells": n_shells,
         "n_hexes": n_hexes,
         "n_steps": run.n_steps,
