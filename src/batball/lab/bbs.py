@@ -117,6 +117,8 @@ class BbsSetup:
             raise SpecError("pivot_band", f"{self.pivot_band / IN:.4g} in", "0 in < band <= 3 in")
         if not 0.0 < self.end_time <= 0.02:
             raise SpecError("end_time", self.end_time, "0 s < end_time <= 0.02 s")
+        if not all(0 <= n <= 100_000 for n in self.relax_steps) or self.relax_steps[0] < 1:
+            raise SpecError("relax_steps", self.relax_steps, "(ramp >= 1, settle >= 0) cycles")
         if not 1 <= self.search_interval <= 100:
             raise SpecError("search_interval", self.search_interval, "an integer 1..100")
 

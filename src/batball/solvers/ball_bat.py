@@ -321,6 +321,7 @@ class CoupledSolver:
         self.bat_moving[model.bat.band] = False
         self.band_inertia = np.inf if model.bat.fixed else band_inertia(model)
         self.omega = np.zeros(1)
+        self.relax_history: list[float] = []  # bat kinetic energy per relaxation cycle [J]
         self.energies = np.zeros(5)  # ball internal, hourglass, bulk viscosity; bat; contact
         self.dt = 0.0
         self.time = 0.0
@@ -383,7 +384,6 @@ class CoupledSolver:
         m, n_bat = self.model, self.model.n_bat
         inserts = m.contacts[m.ball_contacts :]
         overlaps = [pair.gap_offset.copy() for pair in inserts]
-        self.relax_history = []
         dt, peak, kinetic = m.bat.stable_step, 0.0, 0.0
         forces = np.zeros((self.points.shape[0], 3))
         for step in range(ramp_steps + settle_steps):
