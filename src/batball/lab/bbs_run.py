@@ -63,6 +63,7 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         "pitch_speed_mph": setup.pitch_speed / MPH,
         "swing_speed_mph": setup.swing_speed / MPH,
         "peak_force_lbf": m.peak_force / LBF,
+        "peak_force_unfiltered_lbf": m.peak_force_raw / LBF,
         "contact_time_ms": m.contact_time * 1e3,
         "energy_balance_error": m.energy_balance_error,
         "angular_momentum_change": m.angular_momentum_change,
@@ -112,21 +113,25 @@ def plot_barrel_deformation(path: Path, result: BbsResult) -> None:
     from matplotlib.collections import PolyCollection
 
     mesh = result.model.bat_mesh
-    u = result.run.peak_displacement[: mesh.n_points]
+    u = result.run.peak_displacement[: mesh.n_points].copy()
     points = mesh.points
+    # each ring's mean displacement (the bat's rigid turn and bending) removed: what is left is
+    # the wall's deformation within the section
+    outer = mesh.point_sets["outer"]
+    _, ring = np.unique(np.round(points[outer, 0], 9), return_inverse=True)
+    for k in range(3):
+        u[outer, k] -= (np.bincount(ring, u[outer, k]) / np.bincount(ring))[ring]
     radial = (points[:, 1] * u[:, 1] + points[:, 2] * u[:, 2]) / np.hypot(
         points[:, 1], points[:, 2]
     )
-    # the bat's rigid turn about the pivot moves each ring by about theta (x - x_pivot) along y
-    ring = np.abs(points[:, 0] - result.model.impact_x) < 4 * IN
-    outer = np.setdiff1d(np.arange(mesh.n_cells), mesh.cell_sets.get("insert", []))
-    cells = outer[ring[mesh.cells[outer]].all(axis=1)]
-    mean_u = np.array([u[mesh.cells[c], 1].mean() for c in cells])
+    near = np.abs(points[:, 0] - result.model.impact_x) < 4 * IN
+    cells = np.setdiff1d(np.arange(mesh.n_cells), mesh.cell_sets.get("insert", []))
+    cells = cells[near[mesh.cells[cells]].all(axis=1)]
     corners = points[mesh.cells[cells]]
     phi = np.degrees(np.arctan2(corners[..., 2], corners[..., 1]))
-    centre = phi.mean(axis=1, keepdims=True)
-    phi = centre + (phi - centre + 180.0) % 360.0 - 180.0
-    value = radial[mesh.cells[cells]].mean(axis=1) - mean_u * np.cos(np.radians(centre[:, 0]))
+    first = phi[:, :1]
+    phi = first + (phi - first + 180.0) % 360.0 - 180.0  # corners contiguous across +-180 deg
+    value = radial[mesh.cells[cells]].mean(axis=1)
     fig, ax = plt.subplots(figsize=(7, 4))
     collection = PolyCollection(
         list(np.stack([corners[..., 0] / IN, phi], axis=-1)), array=value / IN, cmap="jet"
@@ -135,7 +140,7 @@ def plot_barrel_deformation(path: Path, result: BbsResult) -> None:
     ax.autoscale()
     ax.set_xlabel("x from the knob end (in)")
     ax.set_ylabel("angle from the impact side (deg)")
-    ax.set_title("barrel radial deflection at peak force (in), cell-mean rigid motion removed")
+    ax.set_title("barrel radial deflection at peak force (in), each ring's mean motion removed")
     fig.colorbar(collection, ax=ax)
     fig.tight_layout()
     with atomic_path(path) as tmp:
