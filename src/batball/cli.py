@@ -72,6 +72,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_barrel_parser(sub)
     add_export_parser(sub)
     add_run_deck_parser(sub)
+    add_bbs_parser(sub)
     return parser
 
 
@@ -669,6 +670,80 @@ def run_deck_command(args: argparse.Namespace) -> int:
         f"  {summary['n_cells']} hexes, {summary['n_steps']} steps",
     ]))  # fmt: skip
     return 0
+
+
+# --- batball bbs (issue 9) ---------------------------------------------------------------------
+
+
+def add_bbs_parser(sub: Any) -> None:
+    """``batball bbs``: batted-ball speed of a ball fired at the pivoting bat (seed Table 9)."""
+    help_text = "batted-ball speed: a ball fired at the bat pivoting 6 in from the knob (Table 9)"
+    p = sub.add_parser("bbs", help=help_text, description=help_text)
+    add_bat_mesh_options(p)
+    p.add_argument("--ball", default="type1", help="embedded ball (type1, type2) or a TOML file")
+    p.add_argument("--speed", default="110 mph", help="inbound ball speed (110 mph)")
+    p.add_argument("--pitch-speed", default="25 mph", help="BBS pitch speed v_p (ASA: 25 mph)")
+    p.add_argument("--swing-speed", default="85 mph", help="BBS bat speed v_b (ASA: 85 mph)")
+    p.add_argument("--ball-divisions", type=int, default=12,
+                   help="ball mesh divisions (12 = the seed's 12,096 hexes)")  # fmt: skip
+    p.add_argument("--impact", default="6 in", help="impact point from the end cap (6 in)")
+    p.add_argument("--pivot-band", default="0.5 in",
+                   help="half width of the rigid handle band at the pivot (0.5 in)")  # fmt: skip
+    p.add_argument("--end-time", default="2 ms", help="longest run (2 ms, as the seed)")
+    p.add_argument("--rigid-bat", action="store_true",
+                   help="the bat as a rigid body on the pivot (verification)")  # fmt: skip
+    add_store_options(p)
+    p.set_defaults(handler=run_bbs_command)
+
+
+def bbs_setup(args: argparse.Namespace) -> Any:
+    """The BbsSetup of the parsed options (units parsed here, validated by the setup)."""
+    from batball.lab.bbs import BbsSetup
+    from batball.units import parse_quantity
+
+    mesh = bat_mesh_options(args)
+
+    def speed(text: str, name: str) -> float:
+        return parse_quantity(text, "velocity", field=name)
+
+    return BbsSetup(
+        speed=speed(args.speed, "speed"), pitch_speed=speed(args.pitch_speed, "pitch-speed"),
+        swing_speed=speed(args.swing_speed, "swing-speed"),
+        impact_from_cap=parse_quantity(args.impact, "length", field="impact"),
+        pivot_from_knob=mesh["pivot"],
+        pivot_band=parse_quantity(args.pivot_band, "length", field="pivot-band"),
+        ball_divisions=args.ball_divisions, circumferential=mesh["circumferential"],
+        axial_size=mesh["axial_size"], rigid_bat=args.rigid_bat,
+        end_time=parse_quantity(args.end_time, "time", field="end-time"),
+    )  # fmt: skip
+
+
+def run_bbs_command(args: argparse.Namespace) -> int:
+    """``batball bbs``."""
+    from batball.lab.bbs_run import run_bbs_test
+    from batball.specs import load_ball_spec, load_bat_spec
+
+    setup = bbs_setup(args)
+    bat, ball = load_bat_spec(args.bat), load_ball_spec(args.ball)
+    summary, _ = run_bbs_test(bat, ball, setup, runs_dir=args.runs_dir, reuse=not args.no_reuse)
+    print(json.dumps(summary, indent=2) if args.json else describe_bbs(summary))
+    return 0
+
+
+def describe_bbs(s: dict[str, Any]) -> str:
+    """A short human report of a batted-ball-speed summary, every number with its unit."""
+    return "\n".join([
+        f"batted-ball speed of {s['ball']} on {s['bat']} at {s['inbound_mph']:.1f} mph",
+        f"  BBS {s['bbs_mph']:.2f} mph (v_p {s['pitch_speed_mph']:.0f}, v_b "
+        f"{s['swing_speed_mph']:.0f} mph)",
+        f"  e_A {s['collision_efficiency']:.4f}, rebound {s['rebound_mph']:.2f} mph, BBCOR "
+        f"{s['bbcor']:.4f} (from the bat's rotation {s['bbcor_from_bat_rotation']:.4f}), k "
+        f"{s['k']:.4f}",
+        f"  peak force {s['peak_force_lbf']:.0f} lbf, contact {s['contact_time_ms']:.3f} ms, "
+        f"energy balance error {100 * s['energy_balance_error']:.2f} %",
+        f"  {s['n_shells']} shells + {s['n_hexes']} hexes, {s['n_steps']} steps, "
+        f"{s['wall_seconds']:.1f} s, results in {s['run_folder']}",
+    ])  # fmt: skip
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -89,15 +89,27 @@ def element_geometry(x: np.ndarray, frame: np.ndarray, b: np.ndarray) -> float:
     Args:
         x: current node coordinates (4, 3), m; overwritten by the local coordinates (x, y, z).
     """
-    r31, r42, edge = x[2] - x[0], x[3] - x[1], x[1] - x[0]
-    e3 = cross(r31, r42)
-    e3 /= np.sqrt(np.sum(e3 * e3))
-    e1 = edge - np.sum(edge * e3) * e3
-    e1 /= np.sqrt(np.sum(e1 * e1))
-    frame[0], frame[1], frame[2] = e1, cross(e3, e1), e3
-    centre = 0.25 * (x[0] + x[1] + x[2] + x[3])
+    # scalar arithmetic: no temporary arrays in the per-cell loop (they cost more than the math)
+    a0, a1, a2 = x[2, 0] - x[0, 0], x[2, 1] - x[0, 1], x[2, 2] - x[0, 2]  # r31
+    c0, c1, c2 = x[3, 0] - x[1, 0], x[3, 1] - x[1, 1], x[3, 2] - x[1, 2]  # r42
+    n0, n1, n2 = a1 * c2 - a2 * c1, a2 * c0 - a0 * c2, a0 * c1 - a1 * c0  # e3 = r31 x r42
+    norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+    n0, n1, n2 = n0 / norm, n1 / norm, n2 / norm
+    d0, d1, d2 = x[1, 0] - x[0, 0], x[1, 1] - x[0, 1], x[1, 2] - x[0, 2]  # edge 1-2
+    along = d0 * n0 + d1 * n1 + d2 * n2
+    d0, d1, d2 = d0 - along * n0, d1 - along * n1, d2 - along * n2
+    norm = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    d0, d1, d2 = d0 / norm, d1 / norm, d2 / norm  # e1
+    frame[0, 0], frame[0, 1], frame[0, 2] = d0, d1, d2
+    frame[1, 0], frame[1, 1], frame[1, 2] = n1 * d2 - n2 * d1, n2 * d0 - n0 * d2, n0 * d1 - n1 * d0
+    frame[2, 0], frame[2, 1], frame[2, 2] = n0, n1, n2
+    m0 = 0.25 * (x[0, 0] + x[1, 0] + x[2, 0] + x[3, 0])
+    m1 = 0.25 * (x[0, 1] + x[1, 1] + x[2, 1] + x[3, 1])
+    m2 = 0.25 * (x[0, 2] + x[1, 2] + x[2, 2] + x[3, 2])
     for i in range(4):
-        rotate(frame, x[i] - centre, x[i], False)
+        r0, r1, r2 = x[i, 0] - m0, x[i, 1] - m1, x[i, 2] - m2
+        for a in range(3):
+            x[i, a] = frame[a, 0] * r0 + frame[a, 1] * r1 + frame[a, 2] * r2
     area = 0.5 * ((x[2, 0] - x[0, 0]) * (x[3, 1] - x[1, 1])
                   + (x[1, 0] - x[3, 0]) * (x[2, 1] - x[0, 1]))  # fmt: skip
     half = 0.5 / area

@@ -176,6 +176,7 @@ FIGURE_SECTIONS = (
     ("modes", "Bat mode shapes"),
     ("compression", "Ball compression"),
     ("prestress", "Barrel pre-stress fringe (seed Figure 10)"),
+    ("bbs", "Batted-ball speed: ball-bat contact force"),
 )
 
 

@@ -1,0 +1,441 @@
+"""The virtual batted-ball-speed test (ASTM F2219 as the seed ran it, physics.md section 4).
+
+The bat, at rest, may turn about a pivot axis 6 in from the knob (z; the bat's axis is x); the
+ball is fired along -y at the barrel 6 in from the end cap. The run goes on until the ball has
+left the bat and its speed is steady (the seed ran 2 ms). Measurements (physics.md 4.1-4.2):
+
+* collision efficiency e_A = v_out / v_in, v the ball's centre-of-mass speed along the flight
+  line (v_out > 0: rebound);
+* BBCOR e = e_A (1 + k) + k with k = m_ball z^2 / I_pivot, z the pivot-to-impact distance and
+  I_pivot the lumped bat's MOI about the pivot; cross-checked by e = (v_out + omega z) / v_in with
+  omega the bat's rigid-body angular velocity after the impact (its angular momentum about the
+  pivot over I_pivot);
+* BBS = e_A v_pitch + (1 + e_A) v_bat, 25 and 85 mph by default (the ASA slow-pitch constants
+  that make the seed's Table 9 consistent, physics.md 4.2 and 4.4).
+
+The model: :mod:`batball.solvers.ball_bat` (one explicit scheme, hex ball, Belytschko-Tsay
+shells, penalty contact both ways, the pivot as a rigid band turning about the axis). Contact
+stiffness, LS-DYNA SOFT = 0 style (physics.md 6.6): every ball surface node keeps the stiffness
+the ball tests give it (SLSFAC K A^2 / V of its faces, the ball being the softer side); a bat
+node against the ball gets the ball faces' stiffness per area, SLSFAC K A / V, times its own
+tributary area. The insert touches the barrel's bore through the same contact (shell
+thicknesses as offsets, stiffness SLSFAC E A / diagonal of the barrel's segments).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from batball.contact.segments import SegmentContact
+from batball.contact.shell_contact import nodal_areas
+from batball.elements.shell_bt import initial_force_state
+from batball.elements.shell_bt_section import HG_THICKNESS, layered_section
+from batball.elements.shell_explicit import lumped_shell_mass, stable_time_step
+from batball.errors import SimulationError, SpecError
+from batball.lab.impact import BallBody, ContactOptions, ball_body
+from batball.lab.props import bat_areal_mass
+from batball.mesh import boundary_faces, hex_volumes
+from batball.mesh.bat import make_bat_mesh
+from batball.mesh.shell import ShellMesh, quad_areas
+from batball.solvers.ball_bat import (
+    BallPart,
+    BatPart,
+    CoupledControls,
+    CoupledModel,
+    CoupledResult,
+    CoupledSolver,
+)
+from batball.solvers.explicit import BulkViscosity, HourglassControl
+from batball.specs import BallSpec, BatSpec
+
+IN = 0.0254  # m
+MPH = 0.44704  # m/s
+
+
+@dataclass(frozen=True)
+class BbsSetup:
+    """One batted-ball-speed run (SI).
+
+    Attributes:
+        speed: inbound ball speed [m/s] (95 or 110 mph in the seed).
+        pitch_speed, swing_speed: the BBS constants v_p, v_b [m/s] (ASA 25 and 85 mph).
+        impact_from_cap: impact point from the end cap [m] (6 in).
+        pivot_from_knob: pivot axis from the knob end [m] (6 in).
+        pivot_band: half width of the rigid band of handle rings at the pivot [m].
+        ball_divisions: ball mesh (12 = the seed's 12,096 hexes).
+        circumferential, axial_size: bat mesh (48 x 0.1 in = the seed's about 20,000 shells).
+        gap: initial clearance between ball and bat [m].
+        end_time: longest run [s]; separation_time: run on this long after the ball leaves [s].
+        rigid_bat: the whole bat a rigid body on the pivot (verification).
+        fixed_bat: the bat held still (k = 0: the ball's COR on this target).
+        insert_contact: the insert touches the barrel (else it floats free, for tests).
+        search_interval: cycles between contact searches.
+        prestress: press the insert in by dynamic relaxation before the impact (else its
+            initial overlap is ignored and it just touches the barrel).
+        relax_steps: (ramp, settle) cycles of that relaxation.
+    """
+
+    speed: float = 110.0 * MPH
+    pitch_speed: float = 25.0 * MPH
+    swing_speed: float = 85.0 * MPH
+    impact_from_cap: float = 6.0 * IN
+    pivot_from_knob: float = 6.0 * IN
+    pivot_band: float = 0.5 * IN
+    ball_divisions: int = 12
+    circumferential: int = 48
+    axial_size: float = 0.1 * IN
+    gap: float = 0.01 * IN
+    end_time: float = 2e-3
+    separation_time: float = 0.2e-3
+    time_step_scale: float = 0.9
+    hourglass: HourglassControl = field(default_factory=HourglassControl)
+    bulk_viscosity: BulkViscosity = field(default_factory=BulkViscosity)
+    contact: ContactOptions = field(default_factory=ContactOptions)
+    rigid_bat: bool = False
+    fixed_bat: bool = False
+    insert_contact: bool = True
+    search_interval: int = 10
+    prestress: bool = True
+    relax_steps: tuple[int, int] = (400, 800)
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.speed) and 0 < self.speed <= 100.0):
+            raise SpecError("speed", f"{self.speed / MPH:.4g} mph", "0 mph < speed <= 223 mph")
+        for name in ("pitch_speed", "swing_speed"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and 0 <= value <= 100.0):
+                raise SpecError(name, f"{value / MPH:.4g} mph", "0 mph <= speed <= 223 mph")
+        if not 2 <= self.ball_divisions <= 40:
+            raise SpecError("ball_divisions", self.ball_divisions, "an integer 2..40 (12 = seed)")
+        if not 8 <= self.circumferential <= 256:
+            raise SpecError("circumferential", self.circumferential, "an integer 8..256")
+        if not 0.01 * IN <= self.axial_size <= 2.0 * IN:
+            raise SpecError("axial_size", f"{self.axial_size / IN:.4g} in", "0.01 in .. 2 in")
+        if not 0.0 < self.pivot_band <= 3.0 * IN:
+            raise SpecError("pivot_band", f"{self.pivot_band / IN:.4g} in", "0 in < band <= 3 in")
+        if not 0.0 < self.end_time <= 0.02:
+            raise SpecError("end_time", self.end_time, "0 s < end_time <= 0.02 s")
+        if not all(0 <= n <= 100_000 for n in self.relax_steps) or self.relax_steps[0] < 1:
+            raise SpecError("relax_steps", self.relax_steps, "(ramp >= 1, settle >= 0) cycles")
+        if not 1 <= self.search_interval <= 100:
+            raise SpecError("search_interval", self.search_interval, "an integer 1..100")
+
+
+@dataclass(frozen=True)
+class BbsModel:
+    """The coupled model with what the measurements need.
+
+    Attributes:
+        coupled: the solver's model; bat_mesh: the bat's shells; ball_cells: (n, 8) ball hexes
+            (local ids); impact_x, pivot_x: stations along the bat [m]; z: their distance [m].
+    """
+
+    coupled: CoupledModel
+    bat_mesh: ShellMesh
+    ball_cells: np.ndarray
+    impact_x: float
+    pivot_x: float
+    interference: float = 0.0
+
+    @property
+    def z(self) -> float:
+        """Pivot-to-impact distance [m]."""
+        return self.impact_x - self.pivot_x
+
+
+def bat_part(spec: BatSpec, setup: BbsSetup) -> tuple[BatPart, ShellMesh]:
+    """The bat's shells, layered section, lumped mass, stable step and pivot band."""
+    mesh = make_bat_mesh(spec, circumferential=setup.circumferential,
+                         axial_size=setup.axial_size)  # fmt: skip
+    layups = [p.layup for p in spec.parts]
+    cell_laminate = np.full(mesh.n_cells, -1, dtype=np.int64)
+    for k, spec_part in enumerate(spec.parts):
+        cell_laminate[mesh.cell_sets[spec_part.name]] = k
+    if spec.insert is not None:
+        layups.append(spec.insert.layup)
+        cell_laminate[mesh.cell_sets["insert"]] = len(layups) - 1
+    section = layered_section([spec.laminate(layup) for layup in layups], cell_laminate)
+    mass = lumped_shell_mass(mesh.points, mesh.cells, section,
+                             areal_mass=bat_areal_mass(spec, mesh))  # fmt: skip
+    step = stable_time_step(mesh.points, mesh.cells, section,
+                            time_step_factor=setup.time_step_scale)  # fmt: skip
+    pivot = np.array([setup.pivot_from_knob, 0.0, 0.0])
+    whole = setup.rigid_bat or setup.fixed_bat
+    band = np.flatnonzero(whole | (np.abs(mesh.points[:, 0] - pivot[0]) <= setup.pivot_band))
+    if band.size == 0:
+        raise SpecError("pivot_band", f"{setup.pivot_band / IN:.3g} in",
+                        "a band wide enough to hold a ring of bat nodes")  # fmt: skip
+    part = BatPart(mesh.cells.astype(np.int64), section, mass, step, band, pivot, rigid=whole,
+                   fixed=setup.fixed_bat)  # fmt: skip
+    return part, mesh
+
+
+def place_ball(
+    ball: BallSpec, spec: BatSpec, setup: BbsSetup, n_bat: int
+) -> tuple[BallBody, BallPart, np.ndarray, float]:
+    """The ball body and its nodes placed over the impact point, moving along -y."""
+    body = ball_body(ball, setup.ball_divisions, setup.contact, setup.time_step_scale)
+    impact_x = spec.length - setup.impact_from_cap
+    centre = np.array([impact_x, float(spec.outer_radius(impact_x)) + ball.radius + setup.gap,
+                       0.0])  # fmt: skip
+    points = body.mesh.points + centre
+    volume0 = hex_volumes(body.mesh.points, body.mesh.cells)
+    mass = np.zeros(body.mesh.n_points)
+    np.add.at(mass, body.mesh.cells.ravel(), np.repeat(body.density * volume0 / 8.0, 8))
+    bv = setup.bulk_viscosity
+    part = BallPart(
+        body.mesh.cells.astype(np.int64),
+        n_bat,
+        body.constants[None, :],
+        body.density,
+        volume0,
+        mass,
+        setup.hourglass.type,
+        setup.hourglass.coefficient,
+        *((bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)),
+    )
+    return body, part, points, impact_x
+
+
+def ball_bat_contacts(
+    body: BallBody, ball_part: BallPart, bat: BatPart, mesh: ShellMesh, setup: BbsSetup
+) -> tuple[SegmentContact, ...]:
+    """Ball surface nodes on the bat's outer shells, and the bat's outer nodes on the ball's
+    surface quads (module docs for the stiffness)."""
+    offset = ball_part.first_node
+    outer_cells = np.setdiff1d(np.arange(mesh.n_cells), mesh.cell_sets.get("insert", []))
+    half = 0.5 * bat.section.hourglass_moduli[bat.section.cell_laminate, HG_THICKNESS]
+    margin = 0.05 * IN
+    ball_on_bat = SegmentContact(
+        "ball on bat",
+        body.nodes + offset,
+        np.zeros(body.nodes.size),
+        body.stiffness,
+        bat.cells[outer_cells],
+        half[outer_cells],
+        two_sided=True,
+        depth=0.0,
+        margin=margin,
+    )
+    faces, owner = boundary_faces(body.mesh.cells)
+    face_area = quad_areas(body.mesh.points, faces)
+    c = setup.contact
+    per_area = (
+        c.slsfac
+        * c.sfs
+        * float(ball_part.material_constants[0, 0])
+        * np.mean(face_area / ball_part.volume0[owner])
+    )
+    outer = mesh.point_sets["outer"]
+    node_half = np.zeros(mesh.n_points)
+    np.maximum.at(node_half, bat.cells[outer_cells].ravel(), np.repeat(half[outer_cells], 4))
+    areas = nodal_areas(mesh.points, bat.cells[outer_cells])
+    depth = 2.0 * float(np.mean(ball_part.volume0[owner] / face_area))
+    bat_on_ball = SegmentContact(
+        "bat on ball",
+        outer,
+        node_half[outer],
+        per_area * areas[outer],
+        faces + offset,
+        np.zeros(len(faces)),
+        two_sided=False,
+        depth=depth,
+        margin=margin,
+    )
+    return ball_on_bat, bat_on_ball
+
+
+def insert_barrel_contact(spec: BatSpec, bat: BatPart, mesh: ShellMesh,
+                          setup: BbsSetup) -> SegmentContact:  # fmt: skip
+    """The insert's nodes on the barrel's shells beside it, the initial overlap (the interference
+    the pre-stress would remove) ignored; stiffness SLSFAC E A / diagonal (module docs)."""
+    assert spec.insert is not None
+    sec = bat.section
+    insert = mesh.point_sets["insert"]
+    insert_cells = mesh.cell_sets["insert"]
+    centre_x = mesh.points[bat.cells, 0].mean(axis=1)
+    near = (centre_x > spec.insert.start - 0.5 * IN) & (centre_x < spec.insert.end + 0.5 * IN)
+    near[insert_cells] = False
+    masters = np.flatnonzero(near)
+    thickness = sec.hourglass_moduli[sec.cell_laminate, HG_THICKNESS]
+    modulus = sec.hourglass_moduli[sec.cell_laminate[masters], 0] / thickness[masters]
+    corners = mesh.points[bat.cells[masters]]
+    diagonal = np.maximum(np.linalg.norm(corners[:, 2] - corners[:, 0], axis=1),
+                          np.linalg.norm(corners[:, 3] - corners[:, 1], axis=1))  # fmt: skip
+    per_area = setup.contact.slsfac * float(np.mean(modulus / diagonal))
+    areas = nodal_areas(mesh.points, bat.cells[insert_cells])[insert]
+    pair = SegmentContact(
+        "insert on barrel",
+        insert,
+        0.5 * thickness[insert_cells[0]] * np.ones(insert.size),
+        per_area * areas,
+        bat.cells[masters],
+        0.5 * thickness[masters],
+        two_sided=True,
+        depth=0.0,
+        margin=0.05 * IN,
+    )
+    pair.gap_offset = pair.initial_overlap(mesh.points)
+    return pair
+
+
+def build_bbs_model(spec: BatSpec, ball: BallSpec, setup: BbsSetup) -> BbsModel:
+    """The bat on its pivot and the ball about to hit it (module docs)."""
+    bat, mesh = bat_part(spec, setup)
+    body, ball_part, ball_points, impact_x = place_ball(ball, spec, setup, mesh.n_points)
+    points = np.vstack([mesh.points, ball_points])
+    velocity = np.zeros_like(points)
+    velocity[mesh.n_points :, 1] = -setup.speed
+    contacts = ball_bat_contacts(body, ball_part, bat, mesh, setup)
+    if spec.insert is not None and setup.insert_contact and not bat.rigid:
+        contacts = (*contacts, insert_barrel_contact(spec, bat, mesh, setup))
+    coupled = CoupledModel(points, velocity, ball_part, bat, contacts, 2,
+                           initial_force_state(bat.section))  # fmt: skip
+    interference = spec.insert.interference if spec.insert is not None else 0.0
+    return BbsModel(coupled, mesh, body.mesh.cells, impact_x, setup.pivot_from_knob, interference)
+
+
+def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
+    """Pre-stress the bat (when asked and it has an insert), then run the impact to the end
+    time or separation."""
+    controls = CoupledControls(end_time=setup.end_time, time_step_scale=setup.time_step_scale,
+                               search_interval=setup.search_interval,
+                               separation_time=setup.separation_time)  # fmt: skip
+    solver = CoupledSolver(model.coupled, controls)
+    inserts = model.coupled.contacts[model.coupled.ball_contacts :]
+    ratio, pressure = float("nan"), float("nan")
+    if setup.prestress and inserts:
+        ratio = solver.relax_bat(interference=model.interference,
+                                 ramp_steps=setup.relax_steps[0],
+                                 settle_steps=setup.relax_steps[1])  # fmt: skip
+        pressure = insert_pressure(model, solver.points)
+    result = solver.run()
+    result.prestress_kinetic_ratio, result.interference_pressure = ratio, pressure
+    return result
+
+
+def insert_pressure(model: BbsModel, points: np.ndarray) -> float:
+    """Mean contact pressure between insert and barrel [Pa]: the insert contact's total normal
+    force over the insert's outer area (as lab/barrel's mean interference pressure)."""
+    pair = model.coupled.contacts[model.coupled.ball_contacts]
+    pair.search(points)
+    pair.add_forces(points, np.zeros_like(points))
+    mesh = model.bat_mesh
+    insert_cells = mesh.cell_sets["insert"]
+    radius = np.hypot(mesh.points[pair.slave_nodes, 1], mesh.points[pair.slave_nodes, 2])
+    areas = nodal_areas(mesh.points, mesh.cells[insert_cells])[pair.slave_nodes]
+    outer_area = np.sum(areas * (radius + pair.slave_thickness) / radius)
+    return float(np.linalg.norm(pair.slave_force, axis=1).sum() / outer_area)
+
+
+@dataclass(frozen=True)
+class BbsMeasures:
+    """The batted-ball-speed numbers (SI; physics.md section 4).
+
+    Attributes:
+        inbound_speed, rebound_speed: ball centre-of-mass speed before and after [m/s] (rebound
+            > 0 back along the flight line).
+        collision_efficiency: e_A = rebound / inbound.
+        k: m_ball z^2 / I_pivot; bbcor: e_A (1 + k) + k; bbcor_from_bat: (rebound + omega z) /
+            inbound with the bat's rigid-body angular velocity omega.
+        bbs: e_A v_pitch + (1 + e_A) v_bat [m/s].
+        peak_force: largest ball-bat contact force after a 0.02-ms moving average [N] (a lab load
+            cell's bandwidth; the raw history has one-cycle spikes where single ball nodes first
+            touch, see docs/bbs.md); peak_force_raw: the unfiltered largest [N];
+            contact_time: first to last touch [s].
+        energy_balance_error: largest |balance| over the initial kinetic energy.
+        angular_momentum_change: |L_end - L_0| / |L_0| about the pivot axis.
+        rebound_drift: change of the ball's speed over the last ``separation_time`` [m/s] (0 when
+            steady).
+        pivot_inertia: [kg m^2]; z: pivot to impact [m]; ball_mass: [kg].
+    """
+
+    inbound_speed: float
+    rebound_speed: float
+    collision_efficiency: float
+    k: float
+    bbcor: float
+    bbcor_from_bat: float
+    bbs: float
+    peak_force: float
+    peak_force_raw: float
+    contact_time: float
+    energy_balance_error: float
+    angular_momentum_change: float
+    rebound_drift: float
+    pivot_inertia: float
+    z: float
+    ball_mass: float
+
+
+#: Moving-average window of the reported peak force [s].
+PEAK_FILTER_WINDOW = 0.02e-3
+
+
+def filtered_peak(time: np.ndarray, force: np.ndarray, window: float) -> float:
+    """Largest value of ``force`` (n,) averaged over ``window`` [s] of the (non-uniform) ``time``
+    (n,) [s]: the time integral over each window divided by its length."""
+    integral = np.concatenate([[0.0], np.cumsum(0.5 * (force[1:] + force[:-1]) * np.diff(time))])
+    start = np.interp(time - window, time, integral, left=0.0)
+    usable = time >= time[0] + window
+    if not usable.any():
+        return float(force.max())
+    return float(np.max((integral - start)[usable] / window))
+
+
+def measure_bbs(model: BbsModel, result: CoupledResult, setup: BbsSetup) -> BbsMeasures:
+    """The measurements of a finished run (module docs)."""
+    t = result.column("time_s")
+    vy = result.column("ball_vy")
+    touching = np.flatnonzero(result.column("ball_nodes_in_contact") > 0)
+    if touching.size == 0 or touching[-1] == len(t) - 1:
+        raise SimulationError(
+            f"the ball is still touching the bat at the end time "
+            f"{setup.end_time * 1e3:.2f} ms: no rebound speed to measure"
+        )
+    inbound, rebound = -vy[0], vy[-1]
+    e_a = rebound / inbound
+    k = result.ball_mass * model.z**2 / result.pivot_inertia
+    omega = result.column("bat_omega_rad_s")[-1]
+    after = t >= t[-1] - setup.separation_time
+    momentum = result.column("angular_momentum")
+    kinetic0 = result.column("kinetic_j")[0]
+    return BbsMeasures(
+        inbound_speed=float(inbound),
+        rebound_speed=float(rebound),
+        collision_efficiency=float(e_a),
+        k=float(k),
+        bbcor=float(e_a * (1.0 + k) + k),
+        bbcor_from_bat=float((rebound - omega * model.z) / inbound),
+        bbs=float(e_a * setup.pitch_speed + (1.0 + e_a) * setup.swing_speed),
+        peak_force=filtered_peak(t, result.column("contact_force_n"), PEAK_FILTER_WINDOW),
+        peak_force_raw=float(result.column("contact_force_n").max()),
+        contact_time=float(t[touching[-1]] - t[touching[0]]),
+        energy_balance_error=float(np.abs(result.column("balance_error_j")).max() / kinetic0),
+        angular_momentum_change=float(abs(momentum[-1] - momentum[0]) / abs(momentum[0])),
+        rebound_drift=float(np.ptp(vy[after])),
+        pivot_inertia=result.pivot_inertia,
+        z=model.z,
+        ball_mass=result.ball_mass,
+    )
+
+
+@dataclass(frozen=True)
+class BbsResult:
+    """A batted-ball-speed run: inputs, model, histories and measurements."""
+
+    bat: BatSpec
+    ball: BallSpec
+    setup: BbsSetup
+    model: BbsModel
+    run: CoupledResult
+    measures: BbsMeasures
+
+
+def run_bbs(bat: BatSpec, ball: BallSpec, setup: BbsSetup) -> BbsResult:
+    """Build, run and measure one batted-ball-speed test."""
+    model = build_bbs_model(bat, ball, setup)
+    run = run_bbs_model(model, setup)
+    return BbsResult(bat, ball, setup, model, run, measure_bbs(model, run, setup))

@@ -1,0 +1,541 @@
+"""Coupled explicit dynamics of a hex-meshed ball and a shell-meshed bat on a pivot.
+
+One central-difference scheme for both bodies (physics.md section 6.1): lumped masses, one
+stable step for both (the smaller of the hexes' and the shells' steps, times TSSFAC), the ball's
+internal forces from the one-point hex kernel (:func:`ball_internal_forces`, the only call into
+:mod:`batball.elements.hex8`), the bat's from the layered Belytschko-Tsay kernel, and penalty
+contact (:mod:`batball.contact.segments`) both ways between them and between the bat's insert
+and its barrel. The cycle reads as the named phases of the design: contact search (every
+``search_interval`` cycles), element forces, contact forces, accelerations, constraints, update.
+
+The pivot (ASTM F2219; the seed's aluminium pivot block): the bat nodes within a band around
+the pivot station form a rigid body that may only turn about the fixed pivot axis (z, through
+(x_pivot, 0, 0)); a revolute joint. Each cycle the band's nodal forces and moments give the
+torque T about the axis, the band's angular velocity advances by h T / I_band, and every band
+node then moves with it (v = omega e_z x r, rotation rate omega e_z). The joint's reactions pass
+through the axis, so they change neither the angular momentum about it nor the energy. With
+the band covering the whole bat, the bat is a rigid body on the pivot (the verification case).
+
+Energies: kinetic (at the half steps), the ball's internal, hourglass and bulk-viscosity work
+from the hex kernel's stress power, the bat's internal work (its nodal internal forces times the
+displacement increments), and the contact energy (minus the work of the contact forces on both
+bodies, back to about zero when the penalty springs unload). Their sum against the initial
+kinetic energy is the balance error.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numba as nb
+import numpy as np
+
+from batball.contact.segments import SegmentContact
+from batball.elements.hex8 import compute_hex8_forces
+from batball.elements.shell_bt import HOURGLASS_RATIO, ShellForceState, bt_force_kernel
+from batball.elements.shell_bt_section import LayeredSection
+from batball.errors import SimulationError
+from batball.numerics import FASTMATH
+
+IN = 0.0254  # m, for messages
+
+
+@dataclass(frozen=True)
+class BallPart:
+    """The ball's share of the coupled model (its nodes follow the bat's in the global arrays).
+
+    Attributes:
+        cells: (n_cells, 8) node ids local to the ball; first_node: global id of its node 0.
+        material_constants: (1, 2 N + 2) kernel constants; density: [kg/m^3].
+        volume0: (n_cells,) [m^3]; mass: (n_ball_points,) lumped [kg].
+        hourglass_type, hourglass_coefficient, q1, q2: element controls.
+    """
+
+    cells: np.ndarray
+    first_node: int
+    material_constants: np.ndarray
+    density: float
+    volume0: np.ndarray
+    mass: np.ndarray
+    hourglass_type: int
+    hourglass_coefficient: float
+    q1: float
+    q2: float
+
+
+@dataclass(frozen=True)
+class BatPart:
+    """The bat's share: shells, their layered section and lumped mass, and the pivot.
+
+    Attributes:
+        cells: (n_cells, 4) node ids (global = local: the bat's nodes come first).
+        section: layer data; mass: (n_bat_points, 6) [kg, kg m^2]; stable_step: [s] (TSSFAC
+            applied).
+        band: (n_band,) nodes of the rigid pivot band; pivot: (3,) a point of the axis [m]; the
+            axis is z.
+        rigid: the whole bat is the band (no shell forces); fixed: the band cannot turn.
+    """
+
+    cells: np.ndarray
+    section: LayeredSection
+    mass: np.ndarray
+    stable_step: float
+    band: np.ndarray
+    pivot: np.ndarray
+    rigid: bool = False
+    fixed: bool = False
+
+
+@dataclass(frozen=True)
+class CoupledModel:
+    """Ball, bat, their contacts and the initial state (static during a run).
+
+    Attributes:
+        points: (n_points, 3) initial coordinates, bat nodes first [m].
+        velocity: (n_points, 3) initial translational velocity [m/s].
+        ball, bat: the parts; contacts: ball-bat (both ways) and insert-barrel contacts.
+        ball_contacts: how many of ``contacts`` (the first ones) act between ball and bat.
+        shell_state: initial stresses of the shells (pre-stress), updated in place by a run.
+    """
+
+    points: np.ndarray
+    velocity: np.ndarray
+    ball: BallPart
+    bat: BatPart
+    contacts: tuple[SegmentContact, ...]
+    ball_contacts: int
+    shell_state: ShellForceState
+
+    @property
+    def n_bat(self) -> int:
+        """Bat nodes (the first rows of the global arrays)."""
+        return int(self.bat.mass.shape[0])
+
+
+@dataclass(frozen=True)
+class CoupledControls:
+    """Run controls: end time [s], TSSFAC, search interval [cycles], separation time [s] (stop
+    once the ball-bat contact has been open this long), and the energy run-away limit."""
+
+    end_time: float = 2e-3
+    time_step_scale: float = 0.9
+    search_interval: int = 10
+    separation_time: float | None = 0.2e-3
+    max_energy_error: float = 0.2
+
+
+#: Time constant of the contact-force average that picks the peak-force picture [s].
+PEAK_SMOOTHING = 0.01e-3
+
+#: History columns, one row per cycle.
+HISTORY_COLUMNS = (
+    "time_s", "contact_force_n", "ball_vx", "ball_vy", "ball_vz", "bat_omega_rad_s",
+    "angular_momentum", "kinetic_j", "ball_internal_j", "ball_hourglass_j",
+    "ball_bulk_viscosity_j", "bat_internal_j", "contact_j", "balance_error_j",
+    "ball_nodes_in_contact", "insert_nodes_in_contact",
+)  # fmt: skip
+
+
+def ball_internal_forces(
+    part: BallPart,
+    state: BallState,
+    points: np.ndarray,
+    velocities: np.ndarray,
+    dt: float,
+    forces: np.ndarray,
+) -> None:
+    """The ball's element forces (hex8 kernel) summed to its nodes: ``forces`` (n_ball, 3) [N]
+    (the force on the nodes, m a = f); also fills ``state``'s stable steps and energy slots."""
+    compute_hex8_forces(points, velocities, part.cells, dt, state.cell_material,
+                        part.material_constants, np.array([part.density]), part.volume0,
+                        state.s_inf, state.h, state.pressure, state.hg_state,
+                        part.hourglass_type, part.hourglass_coefficient, part.q1, part.q2,
+                        state.nodal_forces, state.cell_volume, state.cell_dt,
+                        state.energy_increments)  # fmt: skip
+    take_slot_forces(state.nodal_forces, forces)
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def take_slot_forces(nodal_forces: np.ndarray, forces: np.ndarray) -> None:
+    """forces = the sum of the kernel's slots (n_slots, n_points, 3), which are cleared."""
+    for n in range(forces.shape[0]):
+        for i in range(3):
+            total = 0.0
+            for slot in range(nodal_forces.shape[0]):
+                total += nodal_forces[slot, n, i]
+                nodal_forces[slot, n, i] = 0.0
+            forces[n, i] = total
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def gather_cell_forces(cell_forces: np.ndarray, cells: np.ndarray, forces: np.ndarray) -> None:
+    """forces[cells[c, a]] = sum of cell_forces[c, a] (serial: no race); (n_cells, k, m) into
+    (n_points, >= m), the first m columns overwritten."""
+    m = cell_forces.shape[2]
+    forces[:, :m] = 0.0
+    for c in range(cells.shape[0]):
+        for a in range(cells.shape[1]):
+            node = cells[c, a]
+            for k in range(m):
+                forces[node, k] += cell_forces[c, a, k]
+
+
+@dataclass
+class BallState:
+    """The ball's element histories and per-cycle work arrays."""
+
+    cell_material: np.ndarray
+    s_inf: np.ndarray
+    h: np.ndarray
+    pressure: np.ndarray
+    hg_state: np.ndarray
+    nodal_forces: np.ndarray  # (n_slots, n_points, 3): compute_hex8_forces' per-thread slots
+    cell_volume: np.ndarray
+    cell_dt: np.ndarray
+    energy_increments: np.ndarray
+
+    @classmethod
+    def initial(cls, part: BallPart) -> BallState:
+        """Unstressed ball."""
+        n = part.cells.shape[0]
+        n_slots = max(1, min(n, nb.get_num_threads()))  # one per thread (compute_hex8_forces)
+        n_points = len(part.mass)
+        return cls(np.zeros(n, dtype=np.int64), np.zeros((n, 6)),
+                   np.zeros((n, 3 * part.material_constants.shape[1] - 6)), np.zeros(n),
+                   np.zeros((n, 4, 3)), np.zeros((n_slots, n_points, 3)), np.zeros(n),
+                   np.zeros(n), np.zeros((n_slots, 3)))  # fmt: skip
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def central_difference(
+    forces: np.ndarray,
+    mass: np.ndarray,
+    velocity: np.ndarray,
+    half: float,
+    dt_new: float,
+    points: np.ndarray,
+    moving: np.ndarray,
+) -> None:
+    """v += h f / m on every dof, then x += dt v on the translations of ``moving`` nodes
+    (all but the pivot band, which :func:`pivot_band_update` moves); (n, 6) arrays."""
+    for n in range(forces.shape[0]):
+        for k in range(forces.shape[1]):
+            velocity[n, k] += half * forces[n, k] / mass[n, k]
+        if moving[n]:
+            for k in range(3):
+                points[n, k] += dt_new * velocity[n, k]
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def pivot_band_update(
+    forces: np.ndarray,
+    band: np.ndarray,
+    points: np.ndarray,
+    velocity: np.ndarray,
+    pivot: np.ndarray,
+    inertia: float,
+    omega: np.ndarray,
+    half: float,
+    dt_new: float,
+) -> None:
+    """Advance the rigid band about the z axis through ``pivot`` (module docs): omega[0] +=
+    h T / I, then each band node moves with omega e_z x r (rotation rate omega e_z)."""
+    torque = 0.0
+    for i in range(band.shape[0]):
+        n = band[i]
+        rx = points[n, 0] - pivot[0]
+        ry = points[n, 1] - pivot[1]
+        torque += rx * forces[n, 1] - ry * forces[n, 0] + forces[n, 5]
+    omega[0] += half * torque / inertia
+    w = omega[0]
+    for i in range(band.shape[0]):
+        n = band[i]
+        rx = points[n, 0] - pivot[0]
+        ry = points[n, 1] - pivot[1]
+        velocity[n, 0] = -w * ry
+        velocity[n, 1] = w * rx
+        velocity[n, 2] = 0.0
+        velocity[n, 3] = 0.0
+        velocity[n, 4] = 0.0
+        velocity[n, 5] = w
+        points[n, 0] += dt_new * velocity[n, 0]
+        points[n, 1] += dt_new * velocity[n, 1]
+
+
+def band_inertia(model: CoupledModel) -> float:
+    """MOI of the band about the pivot axis, sum m (dx^2 + dy^2) + I_zz [kg m^2]."""
+    band, bat = model.bat.band, model.bat
+    r = model.points[band, :2] - bat.pivot[:2]
+    return float(np.sum(bat.mass[band, 0] * np.sum(r * r, axis=1)) + np.sum(bat.mass[band, 5]))
+
+
+def pivot_inertia(model: CoupledModel) -> float:
+    """MOI of the whole (lumped) bat about the pivot axis [kg m^2]."""
+    n, bat = model.n_bat, model.bat
+    r = model.points[:n, :2] - bat.pivot[:2]
+    return float(np.sum(bat.mass[:, 0] * np.sum(r * r, axis=1)) + np.sum(bat.mass[:, 5]))
+
+
+def angular_momentum(points: np.ndarray, velocity: np.ndarray, mass: np.ndarray,
+                     pivot: np.ndarray) -> float:  # fmt: skip
+    """Angular momentum about the pivot axis of nodes with (n, 6) velocity and mass."""
+    r = points[:, :2] - pivot[:2]
+    spin = np.sum(mass[:, 5] * velocity[:, 5])
+    return float(np.sum(mass[:, 0] * (r[:, 0] * velocity[:, 1] - r[:, 1] * velocity[:, 0])) + spin)
+
+
+@dataclass
+class CoupledResult:
+    """Histories of a coupled run.
+
+    Attributes:
+        history: (n_steps, len(HISTORY_COLUMNS)), columns named in HISTORY_COLUMNS (SI).
+        peak_displacement: displacement of every node [m] when the contact force, smoothed
+            over about 0.01 ms (an exponential average), peaks (so not at a one-cycle spike),
+            (n_points, 3).
+        n_steps, wall_seconds, phase_seconds: cost of the run.
+        pivot_inertia: the lumped bat's MOI about the pivot [kg m^2]; ball_mass: [kg].
+        prestress_kinetic_ratio: the relaxation's final over peak kinetic energy (NaN: none);
+        interference_pressure: mean insert-barrel pressure after it [Pa].
+    """
+
+    history: np.ndarray
+    peak_displacement: np.ndarray
+    n_steps: int
+    wall_seconds: float
+    phase_seconds: dict[str, float] = field(default_factory=dict)
+    pivot_inertia: float = 0.0
+    ball_mass: float = 0.0
+    prestress_kinetic_ratio: float = float("nan")
+    interference_pressure: float = float("nan")
+
+    def column(self, name: str) -> np.ndarray:
+        """One history column by name."""
+        return self.history[:, HISTORY_COLUMNS.index(name)]
+
+
+class CoupledSolver:
+    """Runs a :class:`CoupledModel` with :class:`CoupledControls` (module docs)."""
+
+    def __init__(self, model: CoupledModel, controls: CoupledControls) -> None:
+        self.model, self.controls = model, controls
+        n_bat = model.n_bat
+        self.points = model.points.copy()
+        self.ball_points = self.points[n_bat:]
+        self.bat_points = self.points[:n_bat]
+        self.ball_velocity = np.ascontiguousarray(model.velocity[n_bat:])
+        self.bat_velocity = np.zeros((n_bat, 6))
+        self.bat_velocity[:, :3] = model.velocity[:n_bat]
+        self.ball_mass = np.repeat(model.ball.mass[:, None], 3, axis=1)
+        self.ball_state = BallState.initial(model.ball)
+        self.shell_state = model.shell_state
+        self.ball_forces = np.zeros_like(self.ball_velocity)
+        self.bat_forces = np.zeros((n_bat, 6))
+        self.shell_cell_forces = np.zeros((model.bat.cells.shape[0], 4, 6))
+        self.contact_forces = np.zeros_like(self.points)
+        self.ball_moving = np.ones(self.ball_points.shape[0], dtype=np.bool_)
+        self.bat_moving = np.ones(n_bat, dtype=np.bool_)
+        self.bat_moving[model.bat.band] = False
+        self.band_inertia = np.inf if model.bat.fixed else band_inertia(model)
+        self.omega = np.zeros(1)
+        self.relax_history: list[float] = []  # bat kinetic energy per relaxation cycle [J]
+        self.energies = np.zeros(5)  # ball internal, hourglass, bulk viscosity; bat; contact
+        self.dt = 0.0
+        self.time = 0.0
+        self.step = 0
+        self.phase_seconds = dict.fromkeys(
+            ("contact_search", "ball_forces", "bat_forces", "contact_forces", "update"), 0.0
+        )
+        total_mass = np.sum(model.ball.mass) + np.sum(model.bat.mass[:, 0])
+        self.kinetic0 = 0.5 * float(np.sum(self.ball_mass * self.ball_velocity**2)
+                                    + np.sum(model.bat.mass * self.bat_velocity**2))  # fmt: skip
+        self.total_mass = float(total_mass)
+
+    def timed(self, phase: str, start: float) -> float:
+        """Add the time since ``start`` to ``phase``; returns now."""
+        now = time.perf_counter()
+        self.phase_seconds[phase] += now - start
+        return now
+
+    def element_forces(self) -> float:
+        """Ball and bat internal forces from x^n, v^(n-1/2); returns the new stable step."""
+        m = self.model
+        clock = time.perf_counter()
+        ball_internal_forces(m.ball, self.ball_state, self.ball_points, self.ball_velocity,
+                             self.dt, self.ball_forces)  # fmt: skip
+        cell_dt = self.ball_state.cell_dt
+        if not np.all(cell_dt > 0):
+            bad = int(np.flatnonzero(~(cell_dt > 0))[0])
+            raise SimulationError(f"ball element {bad} inverted at t = {self.time * 1e3:.4f} ms "
+                                  f"(step {self.step})")  # fmt: skip
+        clock = self.timed("ball_forces", clock)
+        self.bat_forces[:] = 0.0
+        if not m.bat.rigid:
+            s, sec = self.shell_state, m.bat.section
+            bt_force_kernel(self.bat_points, m.bat.cells, self.bat_velocity, self.dt,
+                            sec.cell_laminate, sec.layer_stiffness, sec.layer_z,
+                            sec.layer_thickness, sec.shear, sec.hourglass_moduli,
+                            HOURGLASS_RATIO, s.layer_stress, s.shear_force, s.hourglass,
+                            self.shell_cell_forces)  # fmt: skip
+            gather_cell_forces(self.shell_cell_forces, m.bat.cells, self.bat_forces)
+            self.bat_forces *= -1.0  # f_int -> force on the nodes
+        self.timed("bat_forces", clock)
+        ball_dt = self.controls.time_step_scale * float(cell_dt.min())
+        return min(ball_dt, m.bat.stable_step)
+
+    def relax_bat(self, *, interference: float, ramp_steps: int, settle_steps: int,
+                  factor: float = 0.995) -> float:  # fmt: skip
+        """Dynamic relaxation of the bat alone before the impact (LS-DYNA
+        ``*CONTROL_DYNAMIC_RELAXATION``, physics.md 6.7): the insert contacts' ignored initial
+        overlap is reduced by ``interference`` [m] over ``ramp_steps`` (the fit is pressed in:
+        the spec's radial interference, not the mesh's overlap, which the facets of the
+        polygonal sections enlarge by (R_barrel - R_insert)(1 - cos(pi / n))), then
+        ``settle_steps`` more; velocities are scaled by ``factor`` (DRFCTR) each step, the pivot
+        is held, and afterwards velocities are zeroed and the clock reset: the pre-stressed
+        shells and the closed contacts are the impact's initial state.
+
+        Returns:
+            The bat's kinetic energy at the end over its largest value during the relaxation
+            (LS-DYNA's DRTOL measure).
+        """
+        m, n_bat = self.model, self.model.n_bat
+        inserts = m.contacts[m.ball_contacts :]
+        overlaps = [pair.gap_offset.copy() for pair in inserts]
+        dt, peak, kinetic = m.bat.stable_step, 0.0, 0.0
+        forces = np.zeros((self.points.shape[0], 3))
+        for step in range(ramp_steps + settle_steps):
+            share = max(0.0, 1.0 - (step + 1) / ramp_steps)
+            for pair, overlap in zip(inserts, overlaps, strict=True):
+                pair.gap_offset[:] = overlap - (1.0 - share) * interference
+                if step % self.controls.search_interval == 0:
+                    pair.search(self.points)
+            self.dt = dt
+            self.element_forces()
+            forces[:] = 0.0
+            for pair in inserts:
+                pair.add_forces(self.points, forces)
+            self.bat_forces[:, :3] += forces[:n_bat]
+            self.bat_forces[m.bat.band] = 0.0  # the pivot band held still
+            central_difference(self.bat_forces, m.bat.mass, self.bat_velocity, dt, dt,
+                               self.bat_points, self.bat_moving)  # fmt: skip
+            self.bat_velocity *= factor
+            kinetic = 0.5 * float(np.sum(m.bat.mass * self.bat_velocity**2))
+            peak = max(peak, kinetic)
+            self.relax_history.append(kinetic)
+        self.bat_velocity[:] = 0.0
+        self.ball_state = BallState.initial(m.ball)
+        self.dt, self.energies[:] = 0.0, 0.0
+        return kinetic / peak if peak > 0 else 0.0
+
+    def contact(self) -> tuple[int, int]:
+        """Contact forces of every pair into ``contact_forces``; (ball-bat, insert) slaves."""
+        clock = time.perf_counter()
+        if self.step % self.controls.search_interval == 0:
+            for pair in self.model.contacts:
+                pair.search(self.points)
+            clock = self.timed("contact_search", clock)
+        self.contact_forces[:] = 0.0
+        counts = [pair.add_forces(self.points, self.contact_forces) for pair in self.model.contacts]
+        self.timed("contact_forces", clock)
+        k = self.model.ball_contacts
+        return sum(counts[:k]), sum(counts[k:])
+
+    def cycle(self, row: np.ndarray) -> bool:
+        """One explicit cycle; writes the history row; returns whether the ball touches the bat."""
+        m, n_bat = self.model, self.model.n_bat
+        dt_old = self.dt
+        dt_new = self.element_forces()
+        ball_touching, insert_touching = self.contact()
+        clock = time.perf_counter()
+        self.energies[:3] += self.ball_state.energy_increments.sum(axis=0)
+        bat_internal = self.bat_forces.copy() if not m.bat.rigid else None
+        self.ball_forces += self.contact_forces[n_bat:]
+        self.bat_forces[:, :3] += self.contact_forces[:n_bat]
+        before = (self.ball_velocity.copy(), self.bat_velocity.copy())
+        half = 0.5 * (dt_old + dt_new)
+        central_difference(self.ball_forces, self.ball_mass, self.ball_velocity, half, dt_new,
+                           self.ball_points, self.ball_moving)  # fmt: skip
+        central_difference(self.bat_forces, m.bat.mass, self.bat_velocity, half, dt_new,
+                           self.bat_points, self.bat_moving)  # fmt: skip
+        pivot_band_update(self.bat_forces, m.bat.band, self.bat_points, self.bat_velocity,
+                          m.bat.pivot, self.band_inertia, self.omega, half, dt_new)  # fmt: skip
+        ball_step = 0.5 * (before[0] * dt_old + self.ball_velocity * dt_new)
+        bat_step = 0.5 * (before[1] * dt_old + self.bat_velocity * dt_new)
+        if bat_internal is not None:
+            self.energies[3] -= float(np.sum(bat_internal * bat_step))
+        self.energies[4] -= float(
+            np.sum(self.contact_forces[n_bat:] * ball_step)
+            + np.sum(self.contact_forces[:n_bat] * bat_step[:, :3])
+        )
+        self.write_row(row, ball_touching, insert_touching)
+        self.time += dt_new
+        self.dt = dt_new
+        self.step += 1
+        self.timed("update", clock)
+        return ball_touching > 0
+
+    def write_row(self, row: np.ndarray, ball_touching: int, insert_touching: int) -> None:
+        """The history row of this cycle (HISTORY_COLUMNS)."""
+        m, n_bat = self.model, self.model.n_bat
+        ball_mass = m.ball.mass
+        com = ball_mass @ self.ball_velocity / ball_mass.sum()
+        ball6 = np.zeros((ball_mass.size, 6))
+        ball6[:, :3] = self.ball_velocity
+        mass6 = np.repeat(ball_mass[:, None], 6, axis=1)
+        bat_l = angular_momentum(self.bat_points, self.bat_velocity, m.bat.mass, m.bat.pivot)
+        total_l = bat_l + angular_momentum(self.ball_points, ball6, mass6, m.bat.pivot)
+        kinetic = 0.5 * float(np.sum(self.ball_mass * self.ball_velocity**2)
+                              + np.sum(m.bat.mass * self.bat_velocity**2))  # fmt: skip
+        balance = kinetic + self.energies.sum() - self.kinetic0
+        row[:] = (self.time, self.contact_forces[n_bat:, 1].sum(), *com,
+                  bat_l / self.pivot_inertia, total_l, kinetic, *self.energies, balance,
+                  ball_touching, insert_touching)  # fmt: skip
+        if (
+            not np.isfinite(balance)
+            or abs(balance) > self.controls.max_energy_error * self.kinetic0
+        ):
+            raise SimulationError(
+                f"energy balance error {100 * balance / self.kinetic0:+.1f} % of the initial "
+                f"kinetic energy at t = {self.time * 1e3:.4f} ms (step {self.step}): the coupled "
+                f"run is unstable (time step too large or contact too stiff)"
+            )
+
+    @property
+    def pivot_inertia(self) -> float:
+        """The lumped bat's MOI about the pivot axis [kg m^2]."""
+        if not hasattr(self, "_pivot_inertia"):
+            self._pivot_inertia = pivot_inertia(self.model)
+        return self._pivot_inertia
+
+    def run(self) -> CoupledResult:
+        """Advance to the end time, or until the ball has left the bat for ``separation_time``."""
+        c = self.controls
+        rows = np.zeros((4096, len(HISTORY_COLUMNS)))
+        n_rows, contact_began, last_contact, peak, smooth = 0, -1.0, -1.0, -1.0, 0.0
+        peak_points = self.points.copy()
+        start = time.perf_counter()
+        while self.time < c.end_time:
+            if n_rows == len(rows):
+                rows = np.concatenate((rows, np.zeros_like(rows)))
+            touching = self.cycle(rows[n_rows])
+            force = rows[n_rows, 1]
+            n_rows += 1
+            if touching:
+                contact_began = self.time if contact_began < 0 else contact_began
+                last_contact = self.time
+            smooth += min(1.0, self.dt / PEAK_SMOOTHING) * (force - smooth)
+            if smooth > peak:
+                peak = smooth
+                peak_points[:] = self.points
+            if (
+                c.separation_time is not None
+                and last_contact > 0
+                and self.time - last_contact > c.separation_time
+            ):
+                break
+        if contact_began < 0:
+            raise SimulationError(f"the ball never reached the bat by {c.end_time * 1e3:.2f} ms")
+        return CoupledResult(rows[:n_rows].copy(), peak_points - self.model.points, self.step,
+                             time.perf_counter() - start, dict(self.phase_seconds),
+                             self.pivot_inertia, float(self.model.ball.mass.sum()))  # fmt: skip

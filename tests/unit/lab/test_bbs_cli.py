@@ -1,0 +1,57 @@
+"""``batball bbs`` as a user meets it: JSON keys, the run folder, reuse, bad input."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from batball.cli import main
+from batball.errors import SpecError
+from batball.lab.bbs import BbsSetup
+
+COARSE = ["--ball-divisions", "4", "--circumferential", "8", "--axial-size", "1 in"]
+
+
+def run_cli(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
+    code = main(args)
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_bbs_json_has_the_keys_and_writes_the_run_folder(tmp_path: Path, capsys) -> None:
+    # a coarse ball and bat: checks the plumbing and the definitions, not the seed's number
+    args = ["bbs", "--ball", "type2", "--speed", "95 mph", *COARSE, "--json",
+            "--runs-dir", str(tmp_path)]  # fmt: skip
+    code, out, _ = run_cli(args, capsys)
+    assert code == 0
+    s = json.loads(out)
+    assert s.keys() >= {"bbs_mph", "collision_efficiency", "bbcor", "rebound_mph",
+                        "peak_force_lbf", "energy_balance_error", "wall_seconds"}  # fmt: skip
+    assert s["inbound_mph"] == pytest.approx(95.0)
+    e_a = s["collision_efficiency"]
+    assert e_a == pytest.approx(s["rebound_mph"] / 95.0, rel=1e-9)
+    assert s["bbs_mph"] == pytest.approx(85.0 + 110.0 * e_a, rel=1e-9)  # physics.md 4.2, ASA
+    assert s["bbcor"] == pytest.approx(e_a * (1 + s["k"]) + s["k"], rel=1e-9)
+    assert s["energy_balance_error"] < 0.01
+    folder = Path(s["run_folder"])
+    for name in ("summary.json", "history.csv", "force_time.png", "barrel_deformation.png"):
+        assert (folder / name).is_file(), name
+    again = json.loads(run_cli(args, capsys)[1])
+    assert again["wall_seconds"] == s["wall_seconds"]
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "field"),
+    [("--speed", "300 mph", "speed"), ("--pivot-band", "0 in", "pivot_band"),
+     ("--speed", "95 lbf", "speed")],
+)  # fmt: skip
+def test_bad_input_names_the_field(tmp_path: Path, capsys, option: str, value: str,
+                                   field: str) -> None:  # fmt: skip
+    code, _, err = run_cli(["bbs", option, value, *COARSE, "--runs-dir", str(tmp_path)], capsys)
+    assert code == 2
+    assert field in err
+
+
+def test_setup_rejects_a_coarse_ball_mesh() -> None:
+    with pytest.raises(SpecError, match="ball_divisions"):
+        BbsSetup(ball_divisions=1)
