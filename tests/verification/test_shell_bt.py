@@ -149,6 +149,26 @@ def test_forces_rotate_with_the_mesh() -> None:
     np.testing.assert_allclose(back, forces, atol=1e-12 * np.abs(forces).max())
 
 
+def test_forces_do_not_depend_on_the_thread_count() -> None:
+    """The kernel's cells run in parallel chunks; each cell writes only its own rows, so 1 and
+    2 threads give the same bits."""
+    import numba
+
+    points, cells = revolve_rings(np.linspace(0, 0.3, 9), np.full(9, 0.03), circumferential=16)
+    explicit = layered_section([CARBON_STACK], np.zeros(cells.shape[0], dtype=np.int64))
+    field = linear_field(points)
+    before = numba.get_num_threads()
+    try:
+        results = []
+        for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
+            numba.set_num_threads(threads)
+            results.append(small_displacement_forces(points, cells, explicit, field))
+    finally:
+        numba.set_num_threads(before)
+    assert np.abs(results[0]).max() > 0.0
+    np.testing.assert_array_equal(results[0], results[1])
+
+
 def cantilever() -> tuple[ShellMesh, np.ndarray, np.ndarray, np.ndarray]:
     """0.2 x 0.02 m, ten 1-mm steel layers with nu = 0; 10 N tip shear; 20 x 2 quads."""
     mesh = plate_mesh(20, 2, 0.2, 0.02)

@@ -194,36 +194,42 @@ def local_nodal_forces(b: np.ndarray, area: float, r: np.ndarray, shear: np.ndar
         f[i, 5] = 0.0
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
 def bt_force_kernel(points: np.ndarray, cells: np.ndarray, velocity: np.ndarray, dt: float,
                     cell_laminate: np.ndarray, layer_stiffness: np.ndarray,
                     layer_z: np.ndarray, layer_thickness: np.ndarray, shear: np.ndarray,
                     moduli: np.ndarray, ratio: float, layer_stress: np.ndarray,
                     shear_force: np.ndarray, hourglass: np.ndarray,
                     forces: np.ndarray) -> None:  # fmt: skip
-    """Advance every cell's stresses by dt and write its nodal forces (n_cells, 4, 6), global."""
-    x, v, f = np.empty((4, 3)), np.empty((4, 6)), np.empty((4, 6))
-    frame, b = np.empty((3, 3)), np.empty((2, 4))
-    rates, resultants, gamma = np.empty(8), np.empty(6), np.empty(4)
-    for c in range(cells.shape[0]):
-        for i in range(4):
-            x[i] = points[cells[c, i]]
-        area = element_geometry(x, frame, b)
-        for i in range(4):
-            rotate(frame, velocity[cells[c, i], :3], v[i, :3], False)
-            rotate(frame, velocity[cells[c, i], 3:], v[i, 3:], False)
-        strain_rates(v, b, rates)
-        lam = cell_laminate[c]
-        layer_resultants(layer_stress[c], layer_stiffness[lam], layer_z[lam],
-                         layer_thickness[lam], rates, dt, resultants)  # fmt: skip
-        h = shear[lam]
-        shear_force[c, 0] += (h[0, 0] * rates[6] + h[0, 1] * rates[7]) * dt
-        shear_force[c, 1] += (h[1, 0] * rates[6] + h[1, 1] * rates[7]) * dt
-        hourglass_update(x, b, v, area, moduli[lam], ratio, dt, hourglass[c], gamma)
-        local_nodal_forces(b, area, resultants, shear_force[c], hourglass[c], gamma, f)
-        for i in range(4):
-            rotate(frame, f[i, :3], forces[c, i, :3], True)
-            rotate(frame, f[i, 3:], forces[c, i, 3:], True)
+    """Advance every cell's stresses by dt and write its nodal forces (n_cells, 4, 6), global.
+
+    The cells run in parallel chunks; a cell writes only its own rows, so there is no race and
+    the result does not depend on the number of threads."""
+    n_cells = cells.shape[0]
+    n_chunks = max(1, min(n_cells, 64))  # enough for the threads' load balance
+    for chunk in nb.prange(n_chunks):
+        x, v, f = np.empty((4, 3)), np.empty((4, 6)), np.empty((4, 6))
+        frame, b = np.empty((3, 3)), np.empty((2, 4))
+        rates, resultants, gamma = np.empty(8), np.empty(6), np.empty(4)
+        for c in range(chunk * n_cells // n_chunks, (chunk + 1) * n_cells // n_chunks):
+            for i in range(4):
+                x[i] = points[cells[c, i]]
+            area = element_geometry(x, frame, b)
+            for i in range(4):
+                rotate(frame, velocity[cells[c, i], :3], v[i, :3], False)
+                rotate(frame, velocity[cells[c, i], 3:], v[i, 3:], False)
+            strain_rates(v, b, rates)
+            lam = cell_laminate[c]
+            layer_resultants(layer_stress[c], layer_stiffness[lam], layer_z[lam],
+                             layer_thickness[lam], rates, dt, resultants)  # fmt: skip
+            h = shear[lam]
+            shear_force[c, 0] += (h[0, 0] * rates[6] + h[0, 1] * rates[7]) * dt
+            shear_force[c, 1] += (h[1, 0] * rates[6] + h[1, 1] * rates[7]) * dt
+            hourglass_update(x, b, v, area, moduli[lam], ratio, dt, hourglass[c], gamma)
+            local_nodal_forces(b, area, resultants, shear_force[c], hourglass[c], gamma, f)
+            for i in range(4):
+                rotate(frame, f[i, :3], forces[c, i, :3], True)
+                rotate(frame, f[i, 3:], forces[c, i, 3:], True)
 
 
 def bt_internal_forces(
