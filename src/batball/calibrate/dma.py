@@ -40,6 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from batball.errors import SpecError
+from batball.specs import BallSpec, MaterialSpec
 
 #: Unit suffixes of the CSV columns (lower case) and their SI factors.
 PRESSURE_UNITS: dict[str, float] = {
@@ -280,13 +281,13 @@ def fit_prony(data: DmaData, n_terms: int = 3, *, refine: bool = True) -> PronyF
 
 
 def dma_ball(
-    base: object,
+    base: BallSpec,
     data: DmaData,
     *,
     n_terms: int = 3,
     bulk_modulus: float | None = None,
     name: str | None = None,
-) -> tuple[object, PronyFit]:
+) -> tuple[BallSpec, PronyFit]:
     """A ``prony<N>`` ball fitted to ``data``: the base ball's size and mass, and its bulk
     modulus unless ``bulk_modulus`` [Pa] is given (the DMA shear data say nothing of K; a
     MAT_006 or Prony base ball supplies its own).
@@ -296,9 +297,6 @@ def dma_ball(
     """
     import dataclasses
 
-    from batball.specs import BallSpec, MaterialSpec
-
-    assert isinstance(base, BallSpec)
     fit = fit_prony(data, n_terms)
     k = bulk_modulus if bulk_modulus is not None else base.material.values.get("bulk_modulus")
     if k is None or not k > 0.0:
