@@ -22,9 +22,8 @@ from batball.cli import main
 from batball.errors import SpecError
 from batball.specs import load_ball_spec
 
-TRUTH = (
-    Path(__file__).resolve().parents[3] / "benchmarks" / "routes" / "synthetic" / "true-ball.toml"
-)
+ROOT = Path(__file__).resolve().parents[3]
+TRUTH = ROOT / "benchmarks" / "routes" / "synthetic" / "true-ball.toml"
 PSI = 6894.757293168361
 TINY_BAT = ["--circumferential", "8", "--axial-size", "1 in"]
 
@@ -136,3 +135,25 @@ def test_no_route_data_and_bad_use_are_spec_errors(
     assert "use" in capsys.readouterr().err
     with pytest.raises(SpecError, match="measured-bbs"):
         load_measured_bbs(tmp_path / "none.toml")
+
+
+def test_seed_ball_defaults_to_seed_ccor_targets_and_table_9() -> None:
+    """For an embedded ball with no files: the CCOR route on the seed's Tables 5-8 (8 targets)
+    and the measured BBS of Table 9 (type 1: 96.5 and 97.0 mph at 95 and 110 mph, the seed's
+    experiment column); ``--use`` replaces the route's calibration by a ball file."""
+    import argparse
+
+    from batball.calibrate.routes_command import add_compare_arguments, measured_bbs, route_data
+
+    parser = argparse.ArgumentParser()
+    add_compare_arguments(parser)
+    args = parser.parse_args([])
+    routes = route_data(args, "type1")
+    assert [r.route for r in routes] == ["ccor"]
+    assert len(routes[0].targets) == 8
+    bbs = measured_bbs(args, "type1", [95.0, 110.0])
+    assert bbs == {95.0: pytest.approx(96.5, abs=0.05), 110.0: pytest.approx(97.0, abs=0.05)}
+    fitted = ROOT / "benchmarks" / "calibration" / "type1-mat006.toml"
+    args = parser.parse_args(["--use", f"ccor={fitted}"])
+    reused = route_data(args, "type1")
+    assert reused[0].calibrated is not None and reused[0].calibrated.material.law == "mat006"
