@@ -73,6 +73,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_export_parser(sub)
     add_run_deck_parser(sub)
     add_bbs_parser(sub)
+    add_routes_parsers(sub)
     return parser
 
 
@@ -744,6 +745,32 @@ def describe_bbs(s: dict[str, Any]) -> str:
         f"  {s['n_shells']} shells + {s['n_hexes']} hexes, {s['n_steps']} steps, "
         f"{s['wall_seconds']:.1f} s, results in {s['run_folder']}",
     ])  # fmt: skip
+
+
+# --- batball compare-calibrations, synthetic-data (issue 12); in batball.calibrate.routes_command
+
+
+def add_routes_parsers(sub: Any) -> None:
+    """``batball compare-calibrations`` and ``batball synthetic-data``."""
+    from batball.calibrate.routes_command import (
+        add_compare_arguments,
+        add_synthetic_arguments,
+        run_compare_command,
+        run_synthetic_command,
+    )
+
+    help_text = "calibrate a ball by each route with data (flat COR, CCOR, DMA) and compare BBS"
+    p = sub.add_parser("compare-calibrations", help=help_text, description=help_text)
+    add_bat_mesh_options(p)
+    add_compare_arguments(p)
+    add_store_options(p)
+    p.set_defaults(handler=run_compare_command)
+    help_text = "measure a known true ball with the virtual tests: each route's data files"
+    p = sub.add_parser("synthetic-data", help=help_text, description=help_text)
+    add_bat_mesh_options(p)
+    add_synthetic_arguments(p)
+    add_store_options(p)
+    p.set_defaults(handler=run_synthetic_command)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
