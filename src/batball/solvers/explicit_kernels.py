@@ -229,6 +229,24 @@ def record_row(
         row[base + 6 + N_ENERGIES + k] = penetration[k]
 
 
+@nb.njit(inline="always")
+def rigid_contact_forces(
+    points: np.ndarray, time: float, contact_nodes: np.ndarray, contact_forces: np.ndarray,
+    contacts: tuple,
+) -> int:
+    """Clear the contact nodes' rows of ``contact_forces`` and add every target's penalty forces
+    (``contacts`` as in :func:`finish_cycle`); returns the number of nodes in contact."""
+    node_ids, stiffness, c_offsets, kinds, params, reaction, penetration = contacts
+    for n in contact_nodes:
+        contact_forces[n, 0] = 0.0
+        contact_forces[n, 1] = 0.0
+        contact_forces[n, 2] = 0.0
+    return add_rigid_contact_forces(
+        points, time, node_ids, stiffness, c_offsets, kinds, params, contact_forces, reaction,
+        penetration,
+    )
+
+
 @nb.njit(fastmath=FASTMATH, cache=True)
 def finish_cycle(
     energy_increments: np.ndarray,
@@ -265,20 +283,10 @@ def finish_cycle(
         FAIL_NON_FINITE / FAIL_ENERGY taken and recorded; ``counters[ELEMENT]`` names the element).
     """
     slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots = nodes
-    node_ids, stiffness, c_offsets, kinds, params, reaction, penetration = contacts
+    reaction, penetration = contacts[5], contacts[6]
     for c in range(3):
-        total = 0.0
-        for k in range(energy_increments.shape[0]):
-            total += energy_increments[k, c]
-        energies[c] += total
-    for n in contact_nodes:
-        contact_forces[n, 0] = 0.0
-        contact_forces[n, 1] = 0.0
-        contact_forces[n, 2] = 0.0
-    n_active = add_rigid_contact_forces(
-        points, clock[TIME], node_ids, stiffness, c_offsets, kinds, params, contact_forces,
-        reaction, penetration,
-    )
+        energies[c] += energy_increments[:, c].sum()
+    n_active = rigid_contact_forces(points, clock[TIME], contact_nodes, contact_forces, contacts)
     dt_new = next_step(cell_dt, clock, counters, limits)
     if dt_new < 0.0:
         return int(dt_new)
