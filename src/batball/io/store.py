@@ -16,7 +16,8 @@ import json
 import os
 import re
 import secrets
-from collections.abc import Iterator, Mapping
+import time
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -166,3 +167,28 @@ def load_cached_summary(folder: Path) -> dict[str, Any] | None:
     if not isinstance(summary, dict) or summary.get("complete") is not True:
         return None
     return summary
+
+
+def run_or_reuse(
+    folder: Path,
+    reuse: bool,
+    compute: Callable[[], Any],
+    summarise: Callable[[Any, float], dict[str, Any]],
+    write: Callable[[Any, dict[str, Any]], None],
+) -> tuple[dict[str, Any], Path]:
+    """The run-folder protocol of every lab test: the complete summary of ``folder`` if ``reuse``
+    and there is one; else ``compute()``, ``summarise(result, wall_seconds)`` (``run_folder``
+    added) and ``write(result, summary)``, which writes the folder's files, summary.json last.
+
+    Returns:
+        (summary, folder).
+    """
+    cached = load_cached_summary(folder) if reuse else None
+    if cached is not None:
+        return cached, folder
+    start = time.perf_counter()
+    result = compute()
+    summary = summarise(result, time.perf_counter() - start)
+    summary["run_folder"] = Path(folder).as_posix()
+    write(result, summary)
+    return summary, folder

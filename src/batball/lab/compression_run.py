@@ -8,7 +8,6 @@ Runs with the same inputs are reused.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -17,8 +16,8 @@ import numpy as np
 
 from batball.io.fields import write_time_series
 from batball.io.store import (
-    load_cached_summary,
     run_folder,
+    run_or_reuse,
     write_csv_atomic,
     write_summary,
     write_text_atomic,
@@ -125,12 +124,8 @@ def run_compression_test(
 ) -> tuple[dict[str, Any], Path]:
     """Run (or reuse) a compression test; returns its summary and its run folder."""
     folder = run_folder(runs_dir, "compression", ball_test_inputs(ball, setup))
-    cached = load_cached_summary(folder) if reuse else None
-    if cached is not None:
-        return cached, folder
-    start = time.perf_counter()
-    result = run_compression(ball, setup, progress=progress)
-    summary = summarise_compression(result, time.perf_counter() - start)
-    summary["run_folder"] = folder.as_posix()
-    write_compression_outputs(folder, result, summary)
-    return summary, folder
+    return run_or_reuse(
+        folder, reuse, lambda: run_compression(ball, setup, progress=progress),
+        summarise_compression,
+        lambda result, summary: write_compression_outputs(folder, result, summary),
+    )

@@ -8,7 +8,6 @@ its per-frame VTU files (the deformed ball for ParaView). Runs with the same inp
 from __future__ import annotations
 
 import dataclasses
-import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -18,8 +17,8 @@ import numpy as np
 from batball import __version__
 from batball.io.fields import write_time_series
 from batball.io.store import (
-    load_cached_summary,
     run_folder,
+    run_or_reuse,
     write_csv_atomic,
     write_summary,
     write_text_atomic,
@@ -134,12 +133,7 @@ def run_impact_test(
 ) -> tuple[dict[str, Any], Path]:
     """Run (or reuse) an impact test; returns its summary and its run folder."""
     folder = run_folder(runs_dir, setup.test, ball_test_inputs(ball, setup))
-    cached = load_cached_summary(folder) if reuse else None
-    if cached is not None:
-        return cached, folder
-    start = time.perf_counter()
-    result = run_impact(ball, setup, progress=progress)
-    summary = summarise(result, time.perf_counter() - start)
-    summary["run_folder"] = folder.as_posix()
-    write_outputs(folder, result, summary)
-    return summary, folder
+    return run_or_reuse(
+        folder, reuse, lambda: run_impact(ball, setup, progress=progress), summarise,
+        lambda result, summary: write_outputs(folder, result, summary),
+    )

@@ -8,14 +8,13 @@ reused.
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from batball import __version__
-from batball.io.store import atomic_path, load_cached_summary, run_folder, write_summary
+from batball.io.store import atomic_path, run_folder, run_or_reuse, write_summary
 from batball.lab.modal import BatModes, bat_modes
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
@@ -102,15 +101,15 @@ def run_modal_test(
         "batball": __version__,
     }
     folder = run_folder(runs_dir, "modal", inputs)
-    cached = load_cached_summary(folder) if reuse else None
-    if cached is not None:
-        return cached, folder
-    start = time.perf_counter()
-    modes = bat_modes(spec, circumferential=circumferential, axial_size=axial_size,
-                      n_modes=n_modes)  # fmt: skip
-    summary = summarise_modes(spec, modes, time.perf_counter() - start)
-    summary["run_folder"] = folder.as_posix()
-    plot_modes(folder / "modes.png", modes)
-    write_vtu(folder / "modes.vtu", modes)
-    write_summary(folder, summary)
-    return summary, folder
+
+    def write(modes: Any, summary: dict[str, Any]) -> None:
+        plot_modes(folder / "modes.png", modes)
+        write_vtu(folder / "modes.vtu", modes)
+        write_summary(folder, summary)
+
+    return run_or_reuse(
+        folder, reuse,
+        lambda: bat_modes(spec, circumferential=circumferential, axial_size=axial_size,
+                          n_modes=n_modes),
+        lambda modes, seconds: summarise_modes(spec, modes, seconds), write,
+    )  # fmt: skip

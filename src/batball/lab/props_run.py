@@ -6,12 +6,11 @@ shell mesh coloured by part). Runs with the same inputs are reused.
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 from typing import Any
 
 from batball import __version__
-from batball.io.store import load_cached_summary, run_folder, write_summary, write_text_atomic
+from batball.io.store import run_folder, run_or_reuse, write_summary, write_text_atomic
 from batball.lab.props import DEFAULT_PIVOT, MassProperties, bat_mass_properties
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.mesh.shell import ShellMesh, shell_quality
@@ -74,15 +73,15 @@ def run_props_test(
     inputs = props_inputs(spec, circumferential=circumferential, axial_size=axial_size,
                           pivot=pivot)  # fmt: skip
     folder = run_folder(runs_dir, "props", inputs)
-    cached = load_cached_summary(folder) if reuse else None
-    if cached is not None:
-        return cached, folder
-    start = time.perf_counter()
-    props, mesh = bat_mass_properties(spec, circumferential=circumferential,
-                                      axial_size=axial_size, pivot=pivot)  # fmt: skip
-    summary = summarise_props(spec, props, mesh, time.perf_counter() - start)
-    summary["run_folder"] = folder.as_posix()
-    write_text_atomic(folder / "bat.toml", tomli_w.dumps(inputs["bat"]))
-    plot_bat_mesh(folder / "bat.png", spec, mesh)
-    write_summary(folder, summary)
-    return summary, folder
+
+    def write(result: Any, summary: dict[str, Any]) -> None:
+        write_text_atomic(folder / "bat.toml", tomli_w.dumps(inputs["bat"]))
+        plot_bat_mesh(folder / "bat.png", spec, result[1])
+        write_summary(folder, summary)
+
+    return run_or_reuse(
+        folder, reuse,
+        lambda: bat_mass_properties(spec, circumferential=circumferential,
+                                    axial_size=axial_size, pivot=pivot),
+        lambda result, seconds: summarise_props(spec, result[0], result[1], seconds), write,
+    )  # fmt: skip
