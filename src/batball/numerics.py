@@ -1,6 +1,54 @@
-"""Settings shared by every Numba kernel."""
+"""Settings shared by every Numba kernel.
+
+Importing this module (every kernel module does, before anything is compiled) also picks the SIMD
+width LLVM generates: see :func:`prefer_wide_vectors`.
+"""
 
 from __future__ import annotations
 
+import os
+
+from batball.errors import SpecError
+
 #: Fast-math flags that keep NaN and infinity semantics, so failure checks still see them.
 FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
+
+#: Environment variable choosing the SIMD width of the kernels: "512" (the default where the CPU
+#: has AVX-512) or "256" (LLVM's own choice for these CPUs).
+VECTOR_WIDTH_VARIABLE = "BATBALL_VECTOR_WIDTH"
+
+
+def prefer_wide_vectors() -> str | None:
+    """Let LLVM vectorise with 512-bit registers on a CPU with AVX-512; returns the feature
+    string given to Numba, or None where nothing was changed.
+
+    LLVM tunes Skylake-server and later Intel CPUs with ``prefer-256-bit``, so loops are
+    vectorised 4 doubles wide even where 8-wide AVX-512 exists (to avoid the frequency drop of
+    heavy 512-bit code on early Skylake parts). The hex kernel's element loop is straight-line
+    arithmetic on 16-element blocks (:mod:`batball.elements.hex8_block`); measured on this
+    project's 2-core machine (Intel, model 167) the loop itself runs 20-25 % faster 8 wide
+    (benchmarks/RESULTS.md, issue 2). The setting only takes effect if Numba has not compiled
+    anything yet in this process (its code generator is created once); it is skipped where the
+    user set ``NUMBA_CPU_FEATURES`` or ``BATBALL_VECTOR_WIDTH=256``. Numba's on-disk cache is
+    keyed on the feature string, so code compiled either way is never mixed up.
+    """
+    choice = os.environ.get(VECTOR_WIDTH_VARIABLE, "512")
+    if choice not in ("256", "512"):
+        raise SpecError(f"environment variable {VECTOR_WIDTH_VARIABLE}", choice, "256 or 512")
+    if choice == "256" or os.environ.get("NUMBA_CPU_FEATURES"):
+        return None
+    import numba
+    from llvmlite import binding
+
+    host = binding.get_host_cpu_features()
+    if not host.get("avx512f", False):
+        return None
+    features = host.flatten() + ",-prefer-256-bit"
+    numba.config.CPU_FEATURES = features
+    # so that Numba's reload of its configuration from the environment keeps it, and so that
+    # worker processes (calibration pools, Dask) compile the same code
+    os.environ["NUMBA_CPU_FEATURES"] = features
+    return features
+
+
+WIDE_VECTOR_FEATURES = prefer_wide_vectors()
