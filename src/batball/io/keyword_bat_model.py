@@ -29,10 +29,19 @@ import numpy as np
 from batball.elements.shell_stiffness import ShellSection, shell_section
 from batball.errors import SpecError
 from batball.io.keyword_cards import UnitSystem, unit_system
-from batball.io.keyword_model import Deck, parse_deck
+from batball.contact.rigid import RigidCylinder, RigidPlane
+from batball.io.keyword_model import (
+    Deck,
+    _initial_velocity,
+    _materials,
+    _solid_mesh,
+    fit_target,
+    parse_deck,
+)
 from batball.materials import LAMINA_LAWS
 from batball.materials.laminate import Laminate, Ply
 from batball.materials.orthotropic import OrthotropicLamina
+from batball.mesh import Mesh
 from batball.mesh.shell import ShellMesh
 
 #: A MAT_022 strength at or above this (deck units) means "never fails".
@@ -235,3 +244,68 @@ def run_modal_deck(bat: BatDeck) -> dict[str, Any]:
         "labels": list(modes.labels),
         "n_shells": bat.mesh.n_cells,
     }
+
+
+def node_set(bat: BatDeck, sid: int) -> np.ndarray:
+    """Mesh indices of the bat nodes in *SET_NODE_LIST ``sid``."""
+    if sid not in bat.deck.node_sets:
+        raise SpecError("*SET_NODE_LIST", sid, "the SID of a node set in the deck")
+    index = {int(n): i for i, n in enumerate(bat.node_ids)}
+    missing = [n for n in bat.deck.node_sets[sid] if n not in index]
+    if missing:
+        raise SpecError(f"*SET_NODE_LIST {sid}", f"node {missing[0]}", "a node of the bat")
+    return np.array([index[n] for n in bat.deck.node_sets[sid]], dtype=np.int64)
+
+
+def supports(bat: BatDeck) -> list[tuple[np.ndarray, tuple[int, ...]]]:
+    """Each *BOUNDARY_SPC_SET: the bat nodes it holds and its DOF flags (x y z rx ry rz)."""
+    out = []
+    for spc in bat.deck.spcs:
+        dofs = tuple(int(spc.get(k) or 0) for k in ("dofx", "dofy", "dofz", "dofrx", "dofry",
+                                                    "dofrz"))  # fmt: skip
+        if any(d not in (0, 1) for d in dofs):
+            raise SpecError(f"*BOUNDARY_SPC_SET at {spc['where']}", dofs, "flags 0 or 1")
+        out.append((node_set(bat, int(spc["nsid"])), dofs))
+    return out
+
+
+def rigid_shells(bat: BatDeck, u: UnitSystem) -> dict[int, RigidPlane | RigidCylinder]:
+    """The fixed or moving *MAT_RIGID shell parts (barrel platens) as batball's analytic
+    surfaces (:func:`batball.io.keyword_model.fit_target`), by part id; the contact face is
+    offset half the shell thickness toward the bat."""
+    out = {}
+    centre = bat.mesh.points.mean(axis=0)
+    for pid, part in bat.deck.parts.items():
+        mat = bat.deck.materials.get(part.get("mid"), {})
+        if mat.get("kind") != "MAT_RIGID":
+            continue
+        section = bat.deck.sections.get(part.get("secid"), {})
+        quads = [nodes for _, p, nodes, _ in bat.deck.shells if p == pid]
+        if section.get("kind") != "SECTION_SHELL" or not quads:
+            raise SpecError(f"rigid part {pid}", "no shells or no *SECTION_SHELL", "rigid shells")
+        xyz = np.array([[bat.deck.nodes[n] for n in q] for q in quads]) * u.length
+        thickness = float(section.get("t1") or 0.0) * u.length
+        out[pid] = fit_target(xyz, thickness, centre, where=f"rigid part {pid}")
+    return out
+
+
+def pivot_band(bat: BatDeck) -> np.ndarray:
+    """The bat nodes of the pivot's *CONSTRAINED_NODAL_RIGID_BODY_SPC, which must turn about z
+    only (CMO 1, CON1 7, CON2 4: batball's pivot)."""
+    if len(bat.deck.nodal_rigid_bodies) != 1:
+        raise SpecError("*CONSTRAINED_NODAL_RIGID_BODY_SPC", len(bat.deck.nodal_rigid_bodies),
+                        "one: the pivot band")  # fmt: skip
+    body = bat.deck.nodal_rigid_bodies[0]
+    if (body.get("cmo"), body.get("con1"), body.get("con2")) != (1.0, 7.0, 4.0):
+        raise SpecError(f"*CONSTRAINED_NODAL_RIGID_BODY_SPC at {body['where']}",
+                        (body.get("cmo"), body.get("con1"), body.get("con2")),
+                        "CMO 1, CON1 7, CON2 4 (turning about z only: batball's pivot)")
+    return node_set(bat, int(body["nsid"]))
+
+
+def ball_of(bat: BatDeck, u: UnitSystem) -> tuple[Mesh, np.ndarray, np.ndarray]:
+    """The bbs deck's ball: its hex mesh [m], kernel constants and initial velocities [m/s]."""
+    solid_parts = sorted({pid for _, pid, _, _ in bat.deck.solids})
+    mesh, node_ids = _solid_mesh(bat.deck, u)
+    constants, _, _ = _materials(bat.deck, solid_parts, u)
+    return mesh, constants, _initial_velocity(bat.deck, mesh, node_ids, u)

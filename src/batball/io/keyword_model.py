@@ -79,7 +79,7 @@ MUST_BE_ZERO = {
                                              "sbboxid", "lcidab"),
     "INITIAL_VELOCITY_GENERATION": ("omega", "ivatn", "icid"),
     "CONTROL_CONTACT": ("penopt", "thkchg"),
-    "BOUNDARY_PRESCRIBED_MOTION_RIGID": ("vad", "vid", "birth"),
+    "BOUNDARY_PRESCRIBED_MOTION_RIGID": ("vid", "birth"),
     "DAMPING_GLOBAL": ("lcid", "stx", "sty", "stz", "srx", "sry", "srz"),
     "MAT_COMPOSITE_DAMAGE": ("kfail", "aopt", "beta", "alph"),
     "CONTACT_SURFACE_TO_SURFACE_INTERFERENCE": ("fs", "fd", "dc", "vc", "vdc", "bt", "saboxid",
@@ -654,8 +654,9 @@ def _rigid_velocity(deck: Deck, pid: int, mat: dict[str, Any], u: UnitSystem) ->
     if motion is None:
         return None
     where = f"*BOUNDARY_PRESCRIBED_MOTION_RIGID at {motion['where']}"
-    if motion.get("dof") != 3 or (motion.get("death") or 1e28) < 1e27:
-        raise SpecError(where, (motion.get("dof"), motion.get("death")), "DOF 3, no DEATH")
+    if motion.get("dof") != 3 or motion.get("vad") or (motion.get("death") or 1e28) < 1e27:
+        raise SpecError(where, (motion.get("dof"), motion.get("vad"), motion.get("death")),
+                        "DOF 3, VAD 0 (velocity), no DEATH")  # fmt: skip
     curve = _lookup({k: {"c": v} for k, v in deck.curves.items()}, motion.get("lcid"), where,
                     "*DEFINE_CURVE")["c"]  # fmt: skip
     end = deck.controls["CONTROL_TERMINATION"]["endtim"]
