@@ -20,15 +20,15 @@ import math
 import numpy as np
 
 from batball import __version__
-from batball.elements.shell_stiffness import SHEAR_FACTOR
-from batball.io.keyword_cards import UnitSystem, unit_system
 from batball.contact.rigid import RigidCylinder
+from batball.elements.shell_stiffness import SHEAR_FACTOR
 from batball.errors import SpecError
+from batball.io.keyword_cards import UnitSystem, unit_system
 from batball.io.keyword_export import (
     _LONG,
+    BALL_PART,
     TARGET_ELEMENT_START,
     TARGET_NODE_START,
-    BALL_PART,
     card,
     control_cards,
     database_cards,
@@ -122,7 +122,7 @@ def composite_part_cards(spec: BatSpec, mesh: ShellMesh, elform: int, u: UnitSys
         layups["insert"] = spec.insert.layup
     lines: list[str] = []
     for name, pid in bat_part_ids(spec).items():
-        plies = [ply for ply in layups[name] for ply in ply_layers(ply, spec)]
+        plies = [layer for ply in layups[name] for layer in ply_layers(ply, spec)]
         head_card = {"pid": pid, "elform": elform, "shrf": SHEAR_FACTOR, "nloc": 0.0,
                      "marea": extra[name] / (u.density * u.length), "hgid": 0}  # fmt: skip
         lines += keyword("PART_COMPOSITE", {"title": name}, head_card)
@@ -153,8 +153,8 @@ def bat_mesh_lines(spec: BatSpec, mesh: ShellMesh, u: UnitSystem) -> list[str]:
     lines += ["*ELEMENT_SHELL", head("ELEMENT_SHELL", 0)]
     for i, cell in enumerate(mesh.cells):
         nodes = {f"n{k + 1}": int(n) + BAT_NODE_START for k, n in enumerate(cell)}
-        lines.append(card("ELEMENT_SHELL", 0,
-                          {"eid": BAT_ELEMENT_START + i, "pid": int(pids[i]), **nodes}))  # fmt: skip
+        values = {"eid": BAT_ELEMENT_START + i, "pid": int(pids[i]), **nodes}
+        lines.append(card("ELEMENT_SHELL", 0, values))
     return lines
 
 
@@ -260,7 +260,8 @@ def interference_lines(spec: BatSpec, end_time: float, u: UnitSystem) -> list[st
         card("DEFINE_CURVE", 1, {"a1": 2.0 * end_time / u.time, "o1": 1.0}),
         *keyword("CONTACT_SURFACE_TO_SURFACE_INTERFERENCE",
                  {"surfa": bat_part_ids(spec)["insert"], "surfb": OUTER_PART_SET,
-                  "surfatyp": 3, "surfbtyp": 2}, {}, {}, {"lcid1": RAMP_CURVE, "lcid2": FULL_CURVE}),
+                  "surfatyp": 3, "surfbtyp": 2}, {}, {},
+                 {"lcid1": RAMP_CURVE, "lcid2": FULL_CURVE}),
     ]  # fmt: skip
 
 
@@ -338,10 +339,12 @@ def barrel_deck(
         load_dof = 1 + int(np.argmax(np.abs(load_axes(orientation_deg)[0])))
         free = {2: 6.0, 3: 4.0}[load_dof]  # CON1: x and the other lateral axis held
         lines = bat_header(spec, f"barrel compression at {orientation_deg:g} deg", u, mesh, long)
-        lines += [f"$ platens {options.platen_diameter / 0.0254:.6g} in, centre "
-                  f"{options.distance_from_cap / 0.0254:.6g} in from the cap; preload = F at "
-                  f"{options.preload_travel / 0.0254:.6g} in, final = F(total) - preload "
-                  "(RCFORC of part 2); batball zeroes the travel at first touch after the fit"]
+        lines += [
+            f"$ platens {options.platen_diameter / 0.0254:.6g} in, centre "
+            f"{options.distance_from_cap / 0.0254:.6g} in from the cap; preload = F at "
+            f"{options.preload_travel / 0.0254:.6g} in, final = F(total) - preload "
+            "(RCFORC of part 2); batball zeroes the travel at first touch after the fit"
+        ]
         lines += keyword("TITLE", {"title": f"batball barrel bat {spec.name} ({u.name})"})
         lines += keyword("CONTROL_IMPLICIT_GENERAL", {"imflag": 1, "dt0": 0.1 / u.time})
         lines += keyword("CONTROL_TERMINATION", {"endtim": 1.0 / u.time})
@@ -352,16 +355,29 @@ def barrel_deck(
         lines += target_cards(u, con1=(free, 7.0))
         lines += platen_mesh_lines((top, bottom), spec, u)
         lines += keyword("DEFINE_CURVE", {"lcid": TRAVEL_CURVE})
-        lines += [card("DEFINE_CURVE", 1, {"a1": 0.0, "o1": 0.0}),
-                  card("DEFINE_CURVE", 1, {"a1": 1.0 / u.time, "o1": travel / u.length})]
-        lines += keyword("BOUNDARY_PRESCRIBED_MOTION_RIGID", {
-            "pid": 2, "dof": load_dof, "vad": 2, "lcid": TRAVEL_CURVE,
-            "sf": -float(np.sign(top.axis_point @ load_axes(orientation_deg)[0]))})
+        lines += [
+            card("DEFINE_CURVE", 1, {"a1": 0.0, "o1": 0.0}),
+            card("DEFINE_CURVE", 1, {"a1": 1.0 / u.time, "o1": travel / u.length}),
+        ]
+        lines += keyword(
+            "BOUNDARY_PRESCRIBED_MOTION_RIGID",
+            {
+                "pid": 2,
+                "dof": load_dof,
+                "vad": 2,
+                "lcid": TRAVEL_CURVE,
+                "sf": -float(np.sign(top.axis_point @ load_axes(orientation_deg)[0])),
+            },
+        )
         lines += support_lines(rings, on_axis, axis)
         for pid in (2, 3):
-            lines += keyword("CONTACT_AUTOMATIC_SURFACE_TO_SURFACE",
-                             {"surfa": OUTER_PART_SET, "surfb": pid, "surfatyp": 2,
-                              "surfbtyp": 3}, {"fs": 0.0, "fd": 0.0}, {}, {"soft": 0})
+            lines += keyword(
+                "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE",
+                {"surfa": OUTER_PART_SET, "surfb": pid, "surfatyp": 2, "surfbtyp": 3},
+                {"fs": 0.0, "fd": 0.0},
+                {},
+                {"soft": 0},
+            )
         lines.append("*END")
         return "\n".join(lines) + "\n"
     finally:
@@ -431,9 +447,11 @@ def _bbs_lines(spec: BatSpec, ball: BallSpec, setup: BbsSetup, u: UnitSystem) ->
     offset = float(band_mass @ mesh.points[band, 0] / band_mass.sum()) - setup.pivot_from_knob
     lines = bat_header(spec, f"batted-ball speed with ball '{ball.name}' at "
                        f"{setup.speed / 0.44704:.6g} mph", u, mesh, _LONG.get())  # fmt: skip
-    lines += [f"$ part 1 = ball (moving along -y); BBS from MATSUM part 1 y-velocity; pivot band "
-              f"= node set {PIVOT_NODE_SET}; its centre of mass (LS-DYNA's rotation centre) is "
-              f"{offset / 0.0254:.4g} in from batball's pivot axis"]
+    lines += [
+        f"$ part 1 = ball (moving along -y); BBS from MATSUM part 1 y-velocity; pivot band "
+        f"= node set {PIVOT_NODE_SET}; its centre of mass (LS-DYNA's rotation centre) is "
+        f"{offset / 0.0254:.4g} in from batball's pivot axis"
+    ]
     lines += keyword("TITLE", {"title": f"batball bbs bat {spec.name} ball {ball.name} ({u.name})"})
     lines += control_cards(setup, setup.end_time, u) + database_cards(u, 1e-6, 1e-5, 1e-4)
     if setup.prestress:

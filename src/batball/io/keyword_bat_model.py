@@ -26,10 +26,10 @@ from typing import Any
 
 import numpy as np
 
+from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.elements.shell_stiffness import ShellSection, shell_section
 from batball.errors import SpecError
 from batball.io.keyword_cards import UnitSystem, unit_system
-from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.io.keyword_model import (
     Deck,
     _initial_velocity,
@@ -132,8 +132,11 @@ def read_laminae(deck: Deck, u: UnitSystem) -> dict[int, OrthotropicLamina]:
         where = f"*MAT_COMPOSITE_DAMAGE at {mat['where']}"
         for name in STRENGTHS:
             if mat.get(name) is not None and not mat[name] >= NO_FAILURE_FROM:
-                raise SpecError(f"{where} {name.upper()}", mat[name],
-                                f"blank or >= {NO_FAILURE_FROM:g} (batball's laminae are elastic)")
+                raise SpecError(
+                    f"{where} {name.upper()}",
+                    mat[name],
+                    f"blank or >= {NO_FAILURE_FROM:g} (batball's laminae are elastic)",
+                )
         if mat.get("macf") not in (None, 1) or mat.get("atrack") not in (None, 0):
             raise SpecError(f"{where} MACF/ATRACK", (mat.get("macf"), mat.get("atrack")),
                             "MACF 1, ATRACK 0 (shells, a-axis along edge 1-2)")  # fmt: skip
@@ -149,8 +152,11 @@ def insert_part(deck: Deck) -> int | None:
     if not found:
         return None
     if len(found) > 1 or found[0].get("surfatyp") != 3 or found[0]["surfa"] not in deck.composites:
-        raise SpecError(f"*{found[0]['kind']} at {found[0]['where']}", found[0].get("surfa"),
-                        "one insert contact whose SURFA is a composite part (SURFATYP 3)")
+        raise SpecError(
+            f"*{found[0]['kind']} at {found[0]['where']}",
+            found[0].get("surfa"),
+            "one insert contact whose SURFA is a composite part (SURFATYP 3)",
+        )
     return int(found[0]["surfa"])
 
 
@@ -230,8 +236,12 @@ def run_modal_deck(bat: BatDeck) -> dict[str, Any]:
     from batball.lab.modal import shell_modes
 
     if bat.test != "modal":
-        raise SpecError("deck", bat.test, "a modal deck (batball runs only those of the bat "
-                        "decks; barrel and bbs decks are read, see docs/lsdyna.md)")
+        raise SpecError(
+            "deck",
+            bat.test,
+            "a modal deck (batball runs only those of the bat "
+            "decks; barrel and bbs decks are read, see docs/lsdyna.md)",
+        )
     modes = shell_modes(bat.mesh, bat.section(), circumferential=bat.circumferential,
                         n_modes=bat.n_modes)  # fmt: skip
     bending, hoop = modes.first("bending"), modes.first("hoop")
@@ -276,10 +286,10 @@ def rigid_shells(bat: BatDeck, u: UnitSystem) -> dict[int, RigidPlane | RigidCyl
     out = {}
     centre = bat.mesh.points.mean(axis=0)
     for pid, part in bat.deck.parts.items():
-        mat = bat.deck.materials.get(part.get("mid"), {})
+        mat = bat.deck.materials.get(int(part.get("mid") or 0), {})
         if mat.get("kind") != "MAT_RIGID":
             continue
-        section = bat.deck.sections.get(part.get("secid"), {})
+        section = bat.deck.sections.get(int(part.get("secid") or 0), {})
         quads = [nodes for _, p, nodes, _ in bat.deck.shells if p == pid]
         if section.get("kind") != "SECTION_SHELL" or not quads:
             raise SpecError(f"rigid part {pid}", "no shells or no *SECTION_SHELL", "rigid shells")
@@ -297,9 +307,11 @@ def pivot_band(bat: BatDeck) -> np.ndarray:
                         "one: the pivot band")  # fmt: skip
     body = bat.deck.nodal_rigid_bodies[0]
     if (body.get("cmo"), body.get("con1"), body.get("con2")) != (1.0, 7.0, 4.0):
-        raise SpecError(f"*CONSTRAINED_NODAL_RIGID_BODY_SPC at {body['where']}",
-                        (body.get("cmo"), body.get("con1"), body.get("con2")),
-                        "CMO 1, CON1 7, CON2 4 (turning about z only: batball's pivot)")
+        raise SpecError(
+            f"*CONSTRAINED_NODAL_RIGID_BODY_SPC at {body['where']}",
+            (body.get("cmo"), body.get("con1"), body.get("con2")),
+            "CMO 1, CON1 7, CON2 4 (turning about z only: batball's pivot)",
+        )
     return node_set(bat, int(body["nsid"]))
 
 

@@ -14,6 +14,7 @@ or ``*KEYWORD LONG=Y``) every field is 20 columns wide.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from batball.errors import SpecError
@@ -179,8 +180,12 @@ LAYOUTS: dict[str, tuple[tuple[Field, ...], ...]] = {
 }  # fmt: skip
 
 #: Alternative names that mean the same keyword (the numbered material names).
-ALIASES = {"MAT_001": "MAT_ELASTIC", "MAT_006": "MAT_VISCOELASTIC", "MAT_020": "MAT_RIGID",
-           "MAT_022": "MAT_COMPOSITE_DAMAGE"}
+ALIASES = {
+    "MAT_001": "MAT_ELASTIC",
+    "MAT_006": "MAT_VISCOELASTIC",
+    "MAT_020": "MAT_RIGID",
+    "MAT_022": "MAT_COMPOSITE_DAMAGE",
+}
 
 
 @dataclass(frozen=True)
@@ -275,7 +280,7 @@ def _compact_exponent(value: float, digits: int) -> str:
     return f"{mantissa}e{int(exponent)}"
 
 
-def format_card(keyword: str, card: int, values: dict[str, object], long: bool = False) -> str:
+def format_card(keyword: str, card: int, values: Mapping[str, object], long: bool = False) -> str:
     """One fixed-format card of ``keyword``: each field right-aligned in its columns.
 
     Fields missing from ``values`` (or None) are left blank (LS-DYNA's default); a name in

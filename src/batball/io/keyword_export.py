@@ -15,7 +15,7 @@ the contact face is where batball's is.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from contextvars import ContextVar
 from typing import Any
 
@@ -50,7 +50,7 @@ TARGET_ELEMENT_START = 1_000_001
 _LONG: ContextVar[bool] = ContextVar("long_format", default=False)
 
 
-def card(name: str, index: int, values: dict[str, object]) -> str:
+def card(name: str, index: int, values: Mapping[str, object]) -> str:
     """One card of the deck being written, standard or long format."""
     return format_card(name, index, values, long=_LONG.get())
 
@@ -60,7 +60,7 @@ def head(name: str, index: int) -> str:
     return comment_header(name, index, long=_LONG.get())
 
 
-def keyword(name: str, *cards: dict[str, object], comment: bool = True) -> list[str]:
+def keyword(name: str, *cards: Mapping[str, object], comment: bool = True) -> list[str]:
     """``*NAME`` and its cards, each under a ``$#`` line naming its fields."""
     lines = [f"*{name}"]
     for i, values in enumerate(cards):

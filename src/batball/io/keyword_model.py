@@ -398,8 +398,11 @@ def _refuse_bat_keywords(deck: Deck, path: str | Path) -> None:
     used |= {f"MAT_COMPOSITE_DAMAGE {m}" for m, v in deck.materials.items()
              if v["kind"] == "MAT_COMPOSITE_DAMAGE"}  # fmt: skip
     if used or any(deck.curve_sidr.values()):
-        raise SpecError(f"deck {path}", sorted(used) or "a SIDR 1 curve",
-                        "a ball test's keywords only (a bat deck is read by the bat reader)")
+        raise SpecError(
+            f"deck {path}",
+            sorted(used) or "a SIDR 1 curve",
+            "a ball test's keywords only (a bat deck is read by the bat reader)",
+        )
 
 
 def _compression_controls(
