@@ -138,3 +138,15 @@ def test_a_lamina_strength_batball_cannot_honour_is_an_error(tmp_path: Path) -> 
     path.write_text("\n".join(lines) + "\n")
     with pytest.raises(SpecError, match=rf"MAT_COMPOSITE_DAMAGE at .*modal.k:{at + 1} XT"):
         read_bat_deck(path)
+
+
+def test_a_modal_deck_whose_insert_floats_free_is_an_error(tmp_path: Path) -> None:
+    text = modal_deck(load_bat_spec("default"), n_modes=12, **MESH)
+    start = text.index("*CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET")
+    path = tmp_path / "modal.k"
+    path.write_text(text[:start] + "*END\n")  # the insert's tie removed
+    with pytest.raises(SpecError, match="'insert' only for the SURFA part"):
+        read_bat_deck(path)
+    path.write_text(text[:start].replace("\ninsert\n", "\nsleeve\n") + "*END\n")
+    with pytest.raises(SpecError, match="more than one piece"):
+        read_bat_deck(path)

@@ -116,10 +116,79 @@ def read_bat_deck(path: str | Path, *, units: str = "in-lbf-s") -> BatDeck:
     if eigen and not 6 < n_modes <= 500:
         raise SpecError(f"*CONTROL_IMPLICIT_EIGENVALUE.NEIG at {eigen['where']}", n_modes,
                         "7 to 500 modes (the six rigid-body modes count)")  # fmt: skip
-    if test == "modal" and (deck.spcs or deck.nodal_rigid_bodies or deck.solids):
-        raise SpecError(f"modal deck {path}", "supports or a ball", "a free-free bat only")
+    if test == "modal":
+        check_modal_deck(deck, insert_pid, path)
+        check_one_piece(mesh)
     return BatDeck(test, mesh, laminates, extra, shear, elform, circumferential, node_ids,
                    n_modes, deck, u.name, deck.title)  # fmt: skip
+
+
+def check_modal_deck(deck: Deck, insert_pid: int | None, path: str | Path) -> None:
+    """What a modal deck must be for batball's modal test: free-free (no supports, no ball, no
+    rigid parts, no motion), an eigenvalue run only (IMFLAG 1, ENDTIM 0), and the insert, if
+    any, tied to every outer part (batball bonds it; an interference fit is not modelled)."""
+    c = deck.controls
+    extras = [
+        name
+        for name, present in (
+            ("*BOUNDARY_SPC_SET", deck.spcs),
+            ("*CONSTRAINED_NODAL_RIGID_BODY_SPC", deck.nodal_rigid_bodies),
+            ("*ELEMENT_SOLID", deck.solids),
+            ("*INITIAL_VELOCITY_GENERATION", deck.velocities),
+            ("*BOUNDARY_PRESCRIBED_MOTION_RIGID", deck.motions),
+            ("*DEFINE_CURVE", deck.curves),
+            ("*MAT_RIGID", [m for m in deck.materials.values() if m["kind"] == "MAT_RIGID"]),
+            ("*CONTROL_DYNAMIC_RELAXATION", "CONTROL_DYNAMIC_RELAXATION" in c),
+        )
+        if present
+    ]
+    if extras:
+        raise SpecError(f"modal deck {path}", extras, "a free-free bat only")
+    general = c.get("CONTROL_IMPLICIT_GENERAL", {})
+    end = c.get("CONTROL_TERMINATION", {}).get("endtim")
+    if general.get("imflag") != 1 or end not in (None, 0.0):
+        raise SpecError(f"modal deck {path}", f"IMFLAG {general.get('imflag')}, ENDTIM {end}",
+                        "IMFLAG 1 and ENDTIM 0 (an eigenvalue analysis only)")  # fmt: skip
+    contacts = deck.contacts
+    outer = sorted(pid for pid in deck.composites if pid != insert_pid)
+    tie = "CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET"
+    if insert_pid is None and contacts or insert_pid is not None and not (
+        len(contacts) == 1 and contacts[0]["kind"] == tie
+        and sorted(_side(deck, contacts[0], "b")) == outer
+    ):  # fmt: skip
+        raise SpecError(
+            f"modal deck {path}",
+            [c["kind"] for c in contacts],
+            f"none, or one *{tie} of the insert (SURFA) on all outer parts (SURFB)",
+        )
+
+
+def check_one_piece(mesh: ShellMesh) -> None:
+    """The outer wall in one piece, and so the insert the only part held by a tie: a free
+    floating part would add rigid-body modes that batball's labels do not expect."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    inserted = mesh.cell_sets.get("insert", np.zeros(0, dtype=np.int64))
+    cells = mesh.cells[np.setdiff1d(np.arange(mesh.n_cells), inserted)]
+    outer = mesh.point_sets["outer"]
+    rows = np.repeat(cells[:, 0], 4)
+    graph = coo_matrix((np.ones(rows.size), (rows, cells.ravel())), shape=(mesh.n_points,) * 2)
+    _, labels = connected_components(graph, directed=False)
+    if np.unique(labels[outer]).size != 1:
+        raise SpecError("bat shells", "in more than one piece",
+                        "one outer wall (a separate insert must be tied to it)")  # fmt: skip
+
+
+def _side(deck: Deck, contact: dict[str, Any], side: str) -> list[int]:
+    """The part ids of one side (``"a"`` or ``"b"``) of a contact: a part or a part set."""
+    surf, kind = contact.get(f"surf{side}"), contact.get(f"surf{side}typ")
+    if kind == 3:
+        return [int(surf)] if surf is not None else []
+    if kind == 2 and surf in deck.part_sets:
+        return list(deck.part_sets[surf])
+    raise SpecError(f"*{contact['kind']} at {contact['where']} SURF{side.upper()}", surf,
+                    "a part (type 3) or a *SET_PART_LIST (type 2)")  # fmt: skip
 
 
 def read_laminae(deck: Deck, u: UnitSystem) -> dict[int, OrthotropicLamina]:
@@ -175,8 +244,10 @@ def bat_mesh(deck: Deck, insert_pid: int | None, u: UnitSystem) -> tuple[ShellMe
     cell_sets, point_sets = {}, {}
     for pid, part in deck.composites.items():
         name = "insert" if pid == insert_pid else part["title"]
-        if not name or name in cell_sets:
-            raise SpecError(f"*PART_COMPOSITE at {part['where']}", name, "a unique title")
+        if not name or name in cell_sets or (name == "insert" and pid != insert_pid):
+            raise SpecError(f"*PART_COMPOSITE at {part['where']}", name,
+                            "a unique title ('insert' only for the SURFA part of the insert's "
+                            "tied or interference contact)")  # fmt: skip
         cell_sets[name] = np.flatnonzero(pids == pid)
     inserted = cell_sets.get("insert", np.zeros(0, dtype=np.int64))
     outer = np.setdiff1d(np.arange(len(pids)), inserted)
