@@ -27,8 +27,6 @@ from batball.io.keyword_cards import UnitSystem, unit_system
 from batball.io.keyword_export import (
     _LONG,
     BALL_PART,
-    TARGET_ELEMENT_START,
-    TARGET_NODE_START,
     card,
     control_cards,
     database_cards,
@@ -36,9 +34,10 @@ from batball.io.keyword_export import (
     keyword,
     material_cards,
     mesh_lines,
-    node_lines,
     part_cards,
     target_cards,
+    target_element_lines,
+    target_node_lines,
     target_shells,
 )
 from batball.lab.barrel import (
@@ -391,17 +390,7 @@ def platen_mesh_lines(
     100,000 i), meshed as the ball tests' targets are (:func:`~batball.io.keyword_export.
     target_shells`)."""
     shells = [target_shells(p, float(spec.outer_radius(spec.length))) for p in platens]
-    lines = ["*NODE", head("NODE", 0)]
-    for i, (points, _) in enumerate(shells):
-        lines += node_lines(points, TARGET_NODE_START + 100_000 * i, u)
-    lines += ["*ELEMENT_SHELL", head("ELEMENT_SHELL", 0)]
-    for t, (_, quads) in enumerate(shells):
-        start = TARGET_NODE_START + 100_000 * t
-        for i, quad in enumerate(quads):
-            nodes = {f"n{k + 1}": int(n) + start for k, n in enumerate(quad)}
-            eid = TARGET_ELEMENT_START + 100_000 * t + i
-            lines.append(card("ELEMENT_SHELL", 0, {"eid": eid, "pid": 2 + t, **nodes}))
-    return lines
+    return ["*NODE", head("NODE", 0), *target_node_lines(shells, u), *target_element_lines(shells)]
 
 
 def support_lines(rings: np.ndarray, on_axis: np.ndarray, sideways_axis: int) -> list[str]:
@@ -460,7 +449,7 @@ def _bbs_lines(spec: BatSpec, ball: BallSpec, setup: BbsSetup, u: UnitSystem) ->
         raise SpecError("prestress", False, "true (the deck presses the insert in)")
     body = ball_body(ball, setup.ball_divisions, setup.contact, setup.time_step_scale)
     lines += part_cards(setup, ()) + material_cards(ball, body.density, u)
-    lines += mesh_lines(ball_points, model.ball_cells, [], u)[:-2]  # no empty *ELEMENT_SHELL
+    lines += mesh_lines(ball_points, model.ball_cells, [], u)
     lines += bat_lines(spec, mesh, ELFORM_EXPLICIT, u)
     lines += keyword("INITIAL_VELOCITY_GENERATION",
                      {"id": BALL_PART, "styp": 2, "omega": 0.0, "vx": 0.0,

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_keyword_cards import num, read, tens
+from test_keyword_cards import blocks, num, read, tens
 
 from batball.io.keyword_bat import barrel_deck, bbs_deck, modal_deck
 from batball.lab.barrel import BarrelTestOptions
@@ -29,21 +29,6 @@ from batball.specs.bat import load_bat_spec
 IN, LBF, OZ = 0.0254, 4.4482216152605, 0.028349523125
 PSI = LBF / IN**2
 MESH = {"circumferential": 8, "axial_size": 1.0 * IN}
-
-
-def blocks(text: str) -> dict[str, list[list[str]]]:
-    """{keyword: [[data lines of each occurrence], ...]} of a deck's text."""
-    out: dict[str, list[list[str]]] = {}
-    current: list[str] = []
-    for line in text.splitlines():
-        if line.startswith("$"):
-            continue
-        if line.startswith("*"):
-            current = []
-            out.setdefault(line[1:].strip(), []).append(current)
-        else:
-            current.append(line)
-    return out
 
 
 @pytest.fixture(scope="module")
