@@ -862,25 +862,30 @@ def bat_export_bbs_setup(args: argparse.Namespace, mesh: dict[str, Any]) -> Any:
 
 
 def run_bat_deck_command(args: argparse.Namespace) -> int:
-    """``batball run`` of a bat deck: a modal deck runs; a barrel or bbs deck is read and
-    checked, then refused with exit 2 (batball cannot run those from a deck yet)."""
+    """``batball run`` of a bat deck: a modal or barrel deck runs; a bbs deck is read and
+    checked, then refused with exit 2 (batball cannot run it from a deck yet)."""
+    from batball.io.keyword_bat_barrel import run_barrel_deck
     from batball.io.keyword_bat_model import read_bat_deck, run_modal_deck
 
     bat = read_bat_deck(args.deck, units=args.units)
-    if bat.test != "modal":
+    if bat.test == "bbs":
         raise SpecError(
-            f"deck {args.deck}", f"a {bat.test} deck ({bat.mesh.n_cells} shells, read and "
-            "checked)", "a modal deck: batball's barrel and bbs solvers build their contacts "
-            f"from the bat spec, not from a deck; run 'batball {bat.test}' (docs/lsdyna.md)",
+            f"deck {args.deck}", f"a bbs deck ({bat.mesh.n_cells} shells, read and checked)",
+            "a modal or barrel deck: batball's bbs solver builds its contacts and pivot from "
+            "the bat spec, not from a deck; run 'batball bbs' (docs/lsdyna.md)",
         )  # fmt: skip
-    summary = run_modal_deck(bat)
+    summary = run_modal_deck(bat) if bat.test == "modal" else run_barrel_deck(bat)
     summary["deck"] = str(args.deck)
     if args.json:
         print(json.dumps(summary, indent=2))
-        return 0
-    print("\n".join([
-        f"Free-free modes of deck {args.deck} ({summary['n_shells']} shells)",
-        "  bending " + (", ".join(f"{f:.1f} Hz" for f in summary["bending_hz"]) or "none"),
-        "  hoop    " + (", ".join(f"{f:.1f} Hz" for f in summary["hoop_hz"]) or "none"),
-    ]))  # fmt: skip
+    elif bat.test == "barrel":
+        print(f"Barrel compression of deck {args.deck} at {summary['orientation_deg']:g} deg "
+              f"({summary['n_shells']} shells): preload {summary['preload_lbf']:.1f} lbf, "
+              f"final load {summary['final_load_lbf']:.1f} lbf")  # fmt: skip
+    else:
+        print("\n".join([
+            f"Free-free modes of deck {args.deck} ({summary['n_shells']} shells)",
+            "  bending " + (", ".join(f"{f:.1f} Hz" for f in summary["bending_hz"]) or "none"),
+            "  hoop    " + (", ".join(f"{f:.1f} Hz" for f in summary["hoop_hz"]) or "none"),
+        ]))  # fmt: skip
     return 0

@@ -1,11 +1,13 @@
-"""The bat tests' keyword decks read back: export -> read -> run equals the direct run (modal);
-export -> read equals the exported model (barrel, bbs: batball does not run those from a deck).
+"""The bat tests' keyword decks read back: export -> read -> run equals the direct run (modal,
+barrel); export -> read equals the exported model (barrel, bbs: batball does not run bbs decks).
 
 Tolerances: long format (20-column fields, shortest repr) keeps every double, so the model read
 back is the direct one to 1e-12; the modal frequencies then agree to the eigen-solver's
 convergence (ARPACK shift-invert, measured 5e-9 on this mesh: 1e-7). Standard format keeps 5 to
 6 significant digits a real (layer thicknesses 0.0078667 in, moduli): the frequencies moved by
-7e-6 at most, measured; 5e-5. Coarse meshes (8 shells around, 1-in rings): about a second each.
+7e-6 at most, measured; 5e-5. Barrel (preload and final load, 0 deg): measured 3e-10 (long) and
+1.6e-8 (standard) off the direct run; 1e-8 and 1e-6. Coarse meshes (8 shells around, 1-in rings):
+about a second each.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from batball.io.keyword_bat import (
     bbs_deck,
     modal_deck,
 )
+from batball.io.keyword_bat_barrel import run_barrel_deck
 from batball.io.keyword_bat_model import (
     ball_of,
     pivot_band,
@@ -33,14 +36,19 @@ from batball.io.keyword_bat_model import (
 )
 from batball.io.keyword_cards import unit_system
 from batball.io.keyword_model import read_deck
-from batball.lab.barrel import BarrelTestOptions
+from batball.lab.barrel import (
+    BarrelTestOptions,
+    build_barrel_model,
+    compute_prestress,
+    run_barrel_compression,
+)
 from batball.lab.bbs import BbsSetup, build_bbs_model
 from batball.lab.modal import bat_modes, bat_section
 from batball.mesh.bat import make_bat_mesh
 from batball.specs import load_ball_spec
 from batball.specs.bat import load_bat_spec
 
-IN = 0.0254
+IN, LBF = 0.0254, 4.4482216152605
 MESH = {"circumferential": 8, "axial_size": 1.0 * IN}
 U = unit_system("in-lbf-s")
 
@@ -96,6 +104,29 @@ def test_barrel_deck_reads_back_the_exported_model(tmp_path: Path) -> None:
     travel = bat.deck.curves[3][-1, 1] * IN
     assert travel == pytest.approx(options.preload_travel + options.final_travel, rel=1e-12)
     assert bat.deck.curve_sidr[1] == 1  # the fit's stiffness ramp acts in dynamic relaxation
+
+
+@pytest.mark.parametrize(("long", "rtol"), [(True, 1e-8), (False, 1e-6)])
+def test_barrel_deck_runs_as_the_direct_barrel_test(
+    tmp_path: Path, long: bool, rtol: float
+) -> None:
+    spec, options = load_bat_spec("default"), BarrelTestOptions(orientations_deg=(0.0,))
+    model = build_barrel_model(spec, **MESH)
+    direct = run_barrel_compression(model, compute_prestress(model), options)
+    path = tmp_path / "barrel.k"
+    path.write_text(barrel_deck(spec, options, long=long, **MESH))
+    summary = run_barrel_deck(read_bat_deck(path))
+    assert summary["preload_lbf"] * LBF == pytest.approx(direct.preloads()[0], rel=rtol)
+    assert summary["final_load_lbf"] * LBF == pytest.approx(direct.final_loads()[0], rel=rtol)
+
+
+def test_barrel_deck_with_other_supports_is_an_error(tmp_path: Path) -> None:
+    text = barrel_deck(load_bat_spec("default"), BarrelTestOptions(), **MESH)
+    at = text.index("*BOUNDARY_SPC_SET")
+    path = tmp_path / "barrel.k"
+    path.write_text(text[:at] + text[at:].replace("*BOUNDARY_SPC_SET", "$", 1))  # axial one gone
+    with pytest.raises(SpecError, match="batball's supports"):
+        run_barrel_deck(read_bat_deck(path))
 
 
 def test_bbs_deck_reads_back_the_exported_model(tmp_path: Path) -> None:

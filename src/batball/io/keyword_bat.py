@@ -354,9 +354,11 @@ def barrel_deck(
         lines += target_cards(u, con1=(free, 7.0))
         lines += platen_mesh_lines((top, bottom), spec, u)
         lines += keyword("DEFINE_CURVE", {"lcid": TRAVEL_CURVE})
+        # the preload's travel is a point of its own: where the protocol zeroes the force
+        preload = options.preload_travel
         lines += [
-            card("DEFINE_CURVE", 1, {"a1": 0.0, "o1": 0.0}),
-            card("DEFINE_CURVE", 1, {"a1": 1.0 / u.time, "o1": travel / u.length}),
+            card("DEFINE_CURVE", 1, {"a1": t / u.time, "o1": d / u.length})
+            for t, d in ((0.0, 0.0), (preload / travel, preload), (1.0, travel))
         ]
         lines += keyword(
             "BOUNDARY_PRESCRIBED_MOTION_RIGID",
