@@ -21,7 +21,7 @@ import numpy as np
 
 from batball.contact.rigid import RigidCylinder
 from batball.errors import SpecError
-from batball.io.keyword_bat_model import BatDeck, rigid_shells, supports
+from batball.io.keyword_bat_model import BatDeck, contact_side, rigid_shells, supports
 from batball.io.keyword_cards import unit_system
 from batball.lab.barrel import BarrelTestOptions, build_barrel_model, compression_supports
 from batball.mesh.bat import make_bat_mesh
@@ -117,6 +117,7 @@ def options_from_deck(bat: BatDeck, spec: BatSpec) -> tuple[BarrelTestOptions, f
     if sorted(platens) != [2, 3] or motion is None or motion.get("vad") != 2:
         raise SpecError("barrel deck", sorted(platens),
                         "rigid platens 2 (moved by displacement, VAD 2) and 3")  # fmt: skip
+    check_platen_contacts(bat)
     top = platens[2]
     if not isinstance(top, RigidCylinder):
         raise SpecError("rigid part 2", "flat", "a half-cylinder platen")
@@ -133,6 +134,22 @@ def options_from_deck(bat: BatDeck, spec: BatSpec) -> tuple[BarrelTestOptions, f
         orientations_deg=(orientation,),
     )  # fmt: skip
     return options, orientation
+
+
+def check_platen_contacts(bat: BatDeck) -> None:
+    """One frictionless *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE of all outer parts on each
+    platen (batball's platen contact), besides the insert's interference contact."""
+    outer = sorted(pid for pid, p in bat.deck.composites.items() if p["title"] != "insert")
+    pairs = sorted(
+        (sorted(contact_side(bat.deck, c, "a")), sorted(contact_side(bat.deck, c, "b")))
+        for c in bat.deck.contacts if c["kind"] == "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE"
+    )  # fmt: skip
+    if pairs != [(outer, [2]), (outer, [3])]:
+        raise SpecError(
+            "barrel deck contacts",
+            pairs,
+            "the outer parts (SURFA) on platen 2 and on platen 3 (SURFB)",
+        )
 
 
 def run_barrel_deck(bat: BatDeck) -> dict[str, Any]:

@@ -154,7 +154,7 @@ def check_modal_deck(deck: Deck, insert_pid: int | None, path: str | Path) -> No
     tie = "CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET"
     if insert_pid is None and contacts or insert_pid is not None and not (
         len(contacts) == 1 and contacts[0]["kind"] == tie
-        and sorted(_side(deck, contacts[0], "b")) == outer
+        and sorted(contact_side(deck, contacts[0], "b")) == outer
     ):  # fmt: skip
         raise SpecError(
             f"modal deck {path}",
@@ -180,7 +180,7 @@ def check_one_piece(mesh: ShellMesh) -> None:
                         "one outer wall (a separate insert must be tied to it)")  # fmt: skip
 
 
-def _side(deck: Deck, contact: dict[str, Any], side: str) -> list[int]:
+def contact_side(deck: Deck, contact: dict[str, Any], side: str) -> list[int]:
     """The part ids of one side (``"a"`` or ``"b"``) of a contact: a part or a part set."""
     surf, kind = contact.get(f"surf{side}"), contact.get(f"surf{side}typ")
     if kind == 3:
