@@ -561,10 +561,11 @@ def describe_barrel(s: dict[str, Any]) -> str:
 
 
 def add_export_parser(sub: Any) -> None:
-    """``batball export ccor|cor``: the test as an LS-DYNA keyword deck."""
-    help_text = "write a ball test as a complete LS-DYNA keyword deck (docs/lsdyna.md)"
+    """``batball export ccor|cor|compression|modal|barrel|bbs``: the test as a keyword deck."""
+    help_text = "write a ball or bat test as a complete LS-DYNA keyword deck (docs/lsdyna.md)"
     p = sub.add_parser("export", help=help_text, description=help_text)
-    p.add_argument("test", choices=["ccor", "cor", "compression"], help="the test to export")
+    p.add_argument("test", choices=["ccor", "cor", "compression", *BAT_EXPORTS],
+                   help="the test to export")  # fmt: skip
     p.add_argument("--ball", default="type1", help="embedded ball (type1, type2) or a TOML file")
     p.add_argument("--speed", default=None, help="inbound speed with its unit (test default)")
     p.add_argument("--divisions", type=int, default=12, help="ball mesh size (default 12)")
@@ -575,6 +576,7 @@ def add_export_parser(sub: Any) -> None:
     p.add_argument("--units", default="in-lbf-s", help="in-lbf-s (default), m-N-s or mm-N-ms")
     p.add_argument("--long", action="store_true", help="long format: 20-column fields")
     p.add_argument("-o", "--output", required=True, help="the deck file to write (.k)")
+    add_bat_export_options(p)
     p.set_defaults(handler=run_export_command, contact_threshold=0.01)
 
 
@@ -583,6 +585,8 @@ def run_export_command(args: argparse.Namespace) -> int:
     from batball.io.keyword_export import write_impact_deck
     from batball.specs import load_ball_spec
 
+    if args.test in BAT_EXPORTS:
+        return run_bat_export(args)
     ball = load_ball_spec(args.ball)
     if args.test == "compression":
         from batball.lab.compression import CompressionSetup
@@ -624,9 +628,11 @@ def add_run_deck_parser(sub: Any) -> None:
 
 def run_deck_command(args: argparse.Namespace) -> int:
     """Read, run and report a deck with the impact measurements."""
-    from batball.io.keyword_model import read_deck, run_deck
+    from batball.io.keyword_model import parse_deck, read_deck, run_deck
     from batball.units import parse_quantity
 
+    if parse_deck(args.deck).composites:
+        return run_bat_deck_command(args)
     separation = (
         None
         if args.separation_time.strip().lower() == "none"
@@ -788,3 +794,98 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 if __name__ == "__main__":
     sys.exit(main())
+
+
+# --- batball export modal|barrel|bbs, batball run of a bat deck (issue 11) ----------------------
+
+BAT_EXPORTS = ("modal", "barrel", "bbs")
+
+
+def add_bat_export_options(p: Any) -> None:
+    """The bat tests' export options (mesh, modes, orientation, pivot band)."""
+    p.add_argument("--bat", default="default", help="bat tests: embedded bat or a TOML file")
+    p.add_argument("--circumferential", type=int, default=48, help="bat: shells around (48)")
+    p.add_argument("--axial-size", default="0.1 in", help="bat: largest shell length (0.1 in)")
+    p.add_argument("--modes", type=int, default=30, help="modal: modes incl. 6 rigid (30)")
+    p.add_argument("--orientation", type=float, default=0.0,
+                   help="barrel: bat rotation about its axis, 0 or 90 deg (0)")  # fmt: skip
+    p.add_argument("--pivot-band", default="0.5 in", help="bbs: rigid band half width (0.5 in)")
+
+
+def run_bat_export(args: argparse.Namespace) -> int:
+    """Write a bat test's deck (modal, barrel or bbs) and say where."""
+    from pathlib import Path
+
+    from batball.io.keyword_bat import barrel_deck, bbs_deck, modal_deck
+    from batball.specs import load_ball_spec, load_bat_spec
+    from batball.units import parse_quantity
+
+    spec = load_bat_spec(args.bat)
+    mesh = {
+        "circumferential": args.circumferential,
+        "axial_size": parse_quantity(args.axial_size, "length", field="axial-size"),
+    }
+    if args.test == "modal":
+        if args.modes < 8:
+            raise SpecError("modes", args.modes, "an integer >= 8 (six rigid-body modes first)")
+        text = modal_deck(spec, n_modes=args.modes, units=args.units, long=args.long, **mesh)
+    elif args.test == "barrel":
+        from batball.lab.barrel import BarrelTestOptions
+
+        text = barrel_deck(spec, BarrelTestOptions(), orientation_deg=args.orientation,
+                           units=args.units, long=args.long, **mesh)  # fmt: skip
+    else:
+        text = bbs_deck(spec, load_ball_spec(args.ball), bat_export_bbs_setup(args, mesh),
+                        units=args.units, long=args.long)  # fmt: skip
+    Path(args.output).write_text(text, encoding="ascii")
+    print(f"wrote {args.output}: {args.test} of bat {spec.name}, {text.count(chr(10))} lines, "
+          f"units {args.units}")  # fmt: skip
+    return 0
+
+
+def bat_export_bbs_setup(args: argparse.Namespace, mesh: dict[str, Any]) -> Any:
+    """The BbsSetup of ``batball export bbs``'s options (speed default 110 mph)."""
+    from batball.lab.bbs import BbsSetup
+    from batball.lab.impact import ContactOptions
+    from batball.solvers.explicit import BulkViscosity, HourglassControl
+    from batball.units import parse_quantity
+
+    return BbsSetup(
+        speed=parse_quantity(args.speed or "110 mph", "velocity", field="speed"),
+        ball_divisions=args.divisions,
+        pivot_band=parse_quantity(args.pivot_band, "length", field="pivot-band"),
+        hourglass=HourglassControl(args.hourglass_type, args.hourglass_coefficient),
+        bulk_viscosity=BulkViscosity(enabled=not args.no_bulk_viscosity),
+        contact=ContactOptions(soft=args.soft),
+        **mesh,
+    )
+
+
+def run_bat_deck_command(args: argparse.Namespace) -> int:
+    """``batball run`` of a bat deck: a modal or barrel deck runs; a bbs deck is read and
+    checked, then refused with exit 2 (batball cannot run it from a deck yet)."""
+    from batball.io.keyword_bat_barrel import run_barrel_deck
+    from batball.io.keyword_bat_model import read_bat_deck, run_modal_deck
+
+    bat = read_bat_deck(args.deck, units=args.units)
+    if bat.test == "bbs":
+        raise SpecError(
+            f"deck {args.deck}", f"a bbs deck ({bat.mesh.n_cells} shells, read and checked)",
+            "a modal or barrel deck: batball's bbs solver builds its contacts and pivot from "
+            "the bat spec, not from a deck; run 'batball bbs' (docs/lsdyna.md)",
+        )  # fmt: skip
+    summary = run_modal_deck(bat) if bat.test == "modal" else run_barrel_deck(bat)
+    summary["deck"] = str(args.deck)
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    elif bat.test == "barrel":
+        print(f"Barrel compression of deck {args.deck} at {summary['orientation_deg']:g} deg "
+              f"({summary['n_shells']} shells): preload {summary['preload_lbf']:.1f} lbf, "
+              f"final load {summary['final_load_lbf']:.1f} lbf")  # fmt: skip
+    else:
+        print("\n".join([
+            f"Free-free modes of deck {args.deck} ({summary['n_shells']} shells)",
+            "  bending " + (", ".join(f"{f:.1f} Hz" for f in summary["bending_hz"]) or "none"),
+            "  hoop    " + (", ".join(f"{f:.1f} Hz" for f in summary["hoop_hz"]) or "none"),
+        ]))  # fmt: skip
+    return 0

@@ -14,6 +14,7 @@ or ``*KEYWORD LONG=Y``) every field is 20 columns wide.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from batball.errors import SpecError
@@ -122,6 +123,56 @@ LAYOUTS: dict[str, tuple[tuple[Field, ...], ...]] = {
     # *DAMPING_GLOBAL: LCID VALDMP STX STY STZ SRX SRY SRZ; the force on a node is -VALDMP m v
     # (pydyna auto/damping/damping_global.py)
     "DAMPING_GLOBAL": (_tens("i:lcid valdmp stx sty stz srx sry srz"),),
+    # --- bat decks (modal, barrel, bbs) ---
+    # *PART_COMPOSITE: title (80) / PID ELFORM SHRF NLOC MAREA HGID ADPOPT THSHEL / then one card
+    # per two integration points MID1 THICK1 B1 TMID1 MID2 THICK2 B2 TMID2 (pydyna
+    # auto/part/part_composite.py; the seed built its bat with this keyword)
+    "PART_COMPOSITE": ((("title", 80, "s"),),
+                       _tens("i:pid i:elform shrf nloc marea i:hgid i:adpopt i:thshel"),
+                       _tens("i:mid1 thick1 b1 i:tmid1 i:mid2 thick2 b2 i:tmid2")),
+    # *MAT_COMPOSITE_DAMAGE (022): MID RO EA EB EC PRBA PRCA PRCB / GAB GBC GCA KFAIL AOPT MACF
+    # ATRACK / XP YP ZP A1 A2 A3 / V1 V2 V3 D1 D2 D3 BETA / SC XT YT YC ALPH SN SYZ SZX (pydyna
+    # auto/mat/mat_composite_damage.py)
+    "MAT_COMPOSITE_DAMAGE": (_tens("i:mid ro ea eb ec prba prca prcb"),
+                             _tens("gab gbc gca kfail aopt i:macf i:atrack"),
+                             _tens("xp yp zp a1 a2 a3"), _tens("v1 v2 v3 d1 d2 d3 beta"),
+                             _tens("sc xt yt yc alph sn syz szx")),
+    # *CONTROL_IMPLICIT_GENERAL: IMFLAG DT0 IMFORM NSBS IGS CNSTN FORM ZERO_V (pydyna
+    # auto/control/control_implicit_general.py)
+    "CONTROL_IMPLICIT_GENERAL": (_tens("i:imflag dt0 i:imform i:nsbs i:igs i:cnstn i:form "
+                                       "i:zero_v"),),
+    # *CONTROL_IMPLICIT_EIGENVALUE card 1: NEIG CENTER LFLAG LFTEND RFLAG RHTEND EIGMTH SHFSCL
+    # (pydyna auto/control/control_implicit_eigenvalue.py; later cards optional, not written)
+    "CONTROL_IMPLICIT_EIGENVALUE": (_tens("i:neig center i:lflag lftend i:rflag rhtend i:eigmth "
+                                          "shfscl"),),
+    # *CONTROL_DYNAMIC_RELAXATION card 1: NRCYCK DRTOL DRFCTR DRTERM TSSFDR IRELAL EDTTL IDRFLG
+    # (pydyna auto/control/control_dynamic_relaxation.py)
+    "CONTROL_DYNAMIC_RELAXATION": (_tens("i:nrcyck drtol drfctr drterm tssfdr i:irelal edttl "
+                                         "i:idrflg"),),
+    # *CONTACT_SURFACE_TO_SURFACE_INTERFERENCE: the three common contact cards, then LCID1
+    # (interface stiffness scale during dynamic relaxation) LCID2 (during the transient) (pydyna
+    # auto/contact/contact_surface_to_surface_interference.py)
+    "CONTACT_SURFACE_TO_SURFACE_INTERFERENCE": (
+        _tens("i:surfa i:surfb i:surfatyp i:surfbtyp i:saboxid i:sbboxid i:sapr i:sbpr"),
+        _tens("fs fd dc vc vdc i:penchk bt dt"),
+        _tens("sfsa sfsb sast sbst sfsat sfsbt fsf vsf"),
+        _tens("i:lcid1 i:lcid2"),
+    ),
+    # *CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET: the three common contact cards (pydyna
+    # auto/contact/contact_tied_shell_edge_to_surface_beam_offset.py)
+    "CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET": (
+        _tens("i:surfa i:surfb i:surfatyp i:surfbtyp i:saboxid i:sbboxid i:sapr i:sbpr"),
+        _tens("fs fd dc vc vdc i:penchk bt dt"),
+        _tens("sfsa sfsb sast sbst sfsat sfsbt fsf vsf"),
+    ),
+    # *BOUNDARY_SPC_SET: NSID CID DOFX DOFY DOFZ DOFRX DOFRY DOFRZ (pydyna
+    # auto/boundary/boundary_spc_set.py; Altair boundary_spc_lsdyna_r)
+    "BOUNDARY_SPC_SET": (_tens("i:nsid i:cid i:dofx i:dofy i:dofz i:dofrx i:dofry i:dofrz"),),
+    # *CONSTRAINED_NODAL_RIGID_BODY_SPC: PID CID NSID PNODE IPRT DRFLAG RRFLAG / CMO CON1 CON2
+    # (pydyna auto/constrained/constrained_nodal_rigid_body_spc.py)
+    "CONSTRAINED_NODAL_RIGID_BODY_SPC": (_tens("i:pid i:cid i:nsid i:pnode i:iprt i:drflag "
+                                               "i:rrflag"),
+                                         _tens("cmo con1 con2")),
     # *TITLE: one 80-column line (Keyword Manual Vol I, *TITLE)
     "TITLE": ((("title", 80, "s"),),),
     # *INCLUDE: one file name per card, up to 80 columns (Keyword Manual Vol I, *INCLUDE)
@@ -129,7 +180,12 @@ LAYOUTS: dict[str, tuple[tuple[Field, ...], ...]] = {
 }  # fmt: skip
 
 #: Alternative names that mean the same keyword (the numbered material names).
-ALIASES = {"MAT_001": "MAT_ELASTIC", "MAT_006": "MAT_VISCOELASTIC", "MAT_020": "MAT_RIGID"}
+ALIASES = {
+    "MAT_001": "MAT_ELASTIC",
+    "MAT_006": "MAT_VISCOELASTIC",
+    "MAT_020": "MAT_RIGID",
+    "MAT_022": "MAT_COMPOSITE_DAMAGE",
+}
 
 
 @dataclass(frozen=True)
@@ -224,7 +280,7 @@ def _compact_exponent(value: float, digits: int) -> str:
     return f"{mantissa}e{int(exponent)}"
 
 
-def format_card(keyword: str, card: int, values: dict[str, object], long: bool = False) -> str:
+def format_card(keyword: str, card: int, values: Mapping[str, object], long: bool = False) -> str:
     """One fixed-format card of ``keyword``: each field right-aligned in its columns.
 
     Fields missing from ``values`` (or None) are left blank (LS-DYNA's default); a name in

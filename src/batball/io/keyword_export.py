@@ -15,7 +15,7 @@ the contact face is where batball's is.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from contextvars import ContextVar
 from typing import Any
 
@@ -50,7 +50,7 @@ TARGET_ELEMENT_START = 1_000_001
 _LONG: ContextVar[bool] = ContextVar("long_format", default=False)
 
 
-def card(name: str, index: int, values: dict[str, object]) -> str:
+def card(name: str, index: int, values: Mapping[str, object]) -> str:
     """One card of the deck being written, standard or long format."""
     return format_card(name, index, values, long=_LONG.get())
 
@@ -60,7 +60,7 @@ def head(name: str, index: int) -> str:
     return comment_header(name, index, long=_LONG.get())
 
 
-def keyword(name: str, *cards: dict[str, object], comment: bool = True) -> list[str]:
+def keyword(name: str, *cards: Mapping[str, object], comment: bool = True) -> list[str]:
     """``*NAME`` and its cards, each under a ``$#`` line naming its fields."""
     lines = [f"*{name}"]
     for i, values in enumerate(cards):
@@ -258,15 +258,27 @@ def mesh_lines(
     u: UnitSystem,
 ) -> list[str]:
     """*NODE, *ELEMENT_SOLID (ball, part 1, ids from 1) and *ELEMENT_SHELL (target i: part 2 + i,
-    node and element ids from 1,000,001 + 100,000 i)."""
-    lines = ["*NODE", head("NODE", 0), *node_lines(points, 1, u)]
-    for i, (shell_points, _) in enumerate(shells):
-        lines += node_lines(shell_points, TARGET_NODE_START + 100_000 * i, u)
+    node and element ids from 1,000,001 + 100,000 i; none without targets)."""
+    lines = ["*NODE", head("NODE", 0), *node_lines(points, 1, u), *target_node_lines(shells, u)]
     lines += ["*ELEMENT_SOLID", head("ELEMENT_SOLID", 0)]
     for i, cell in enumerate(cells):
         nodes = {f"n{k + 1}": int(n) + 1 for k, n in enumerate(cell)}
         lines.append(card("ELEMENT_SOLID", 0, {"eid": i + 1, "pid": BALL_PART, **nodes}))
-    lines += ["*ELEMENT_SHELL", head("ELEMENT_SHELL", 0)]
+    return lines + target_element_lines(shells)
+
+
+def target_node_lines(shells: list[tuple[np.ndarray, np.ndarray]], u: UnitSystem) -> list[str]:
+    """*NODE cards of rigid target i's shell nodes [m], ids from 1,000,001 + 100,000 i."""
+    return [line for i, (points, _) in enumerate(shells)
+            for line in node_lines(points, TARGET_NODE_START + 100_000 * i, u)]  # fmt: skip
+
+
+def target_element_lines(shells: list[tuple[np.ndarray, np.ndarray]]) -> list[str]:
+    """*ELEMENT_SHELL of rigid target i (part 2 + i, element ids from 1,000,001 + 100,000 i);
+    nothing without targets."""
+    if not shells:
+        return []
+    lines = ["*ELEMENT_SHELL", head("ELEMENT_SHELL", 0)]
     for t, (_, quads) in enumerate(shells):
         start = TARGET_NODE_START + 100_000 * t
         for i, quad in enumerate(quads):

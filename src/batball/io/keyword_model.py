@@ -50,10 +50,22 @@ CARD_COUNTS = {
     "TITLE": (1, 1), "DATABASE_GLSTAT": (1, 1), "BOUNDARY_PRESCRIBED_MOTION_RIGID": (1, 1),
     "DAMPING_GLOBAL": (1, 1), "DATABASE_MATSUM": (1, 1),
     "DATABASE_RCFORC": (1, 1), "DATABASE_NODOUT": (1, 1), "DATABASE_BINARY_D3PLOT": (1, 1),
+    # bat decks (read into batball.io.keyword_bat_model; the impact reader refuses them)
+    "MAT_COMPOSITE_DAMAGE": (5, 5), "CONTROL_IMPLICIT_GENERAL": (1, 1),
+    "CONTROL_IMPLICIT_EIGENVALUE": (1, 1), "CONTROL_DYNAMIC_RELAXATION": (1, 1),
+    "CONTACT_SURFACE_TO_SURFACE_INTERFERENCE": (4, 4),
+    "CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET": (3, 3), "BOUNDARY_SPC_SET": (1, 1),
+    "CONSTRAINED_NODAL_RIGID_BODY_SPC": (2, 2),
 }  # fmt: skip
+#: Keywords only the bat tests' decks use (:mod:`batball.io.keyword_bat_model` reads them).
+BAT_KEYWORDS = {"PART_COMPOSITE", "MAT_COMPOSITE_DAMAGE", "CONTROL_IMPLICIT_GENERAL",
+                "CONTROL_IMPLICIT_EIGENVALUE", "CONTROL_DYNAMIC_RELAXATION",
+                "CONTACT_SURFACE_TO_SURFACE_INTERFERENCE",
+                "CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET", "BOUNDARY_SPC_SET",
+                "CONSTRAINED_NODAL_RIGID_BODY_SPC"}  # fmt: skip
 #: Keywords whose cards repeat (one record per card, or a header card then a list).
 REPEATED = {"NODE", "ELEMENT_SOLID", "ELEMENT_SHELL", "SET_PART_LIST", "SET_NODE_LIST",
-            "DATABASE_HISTORY_NODE", "DEFINE_CURVE"}  # fmt: skip
+            "DATABASE_HISTORY_NODE", "DEFINE_CURVE", "PART_COMPOSITE"}  # fmt: skip
 SUPPORTED = {"KEYWORD", *CARD_COUNTS, *REPEATED}
 
 #: Fields that must be blank or zero because batball has no such feature.
@@ -67,8 +79,15 @@ MUST_BE_ZERO = {
                                              "sbboxid", "lcidab"),
     "INITIAL_VELOCITY_GENERATION": ("omega", "ivatn", "icid"),
     "CONTROL_CONTACT": ("penopt", "thkchg"),
-    "BOUNDARY_PRESCRIBED_MOTION_RIGID": ("vad", "vid", "birth"),
+    "BOUNDARY_PRESCRIBED_MOTION_RIGID": ("vid", "birth"),
     "DAMPING_GLOBAL": ("lcid", "stx", "sty", "stz", "srx", "sry", "srz"),
+    "MAT_COMPOSITE_DAMAGE": ("kfail", "aopt", "beta", "alph"),
+    "CONTACT_SURFACE_TO_SURFACE_INTERFERENCE": ("fs", "fd", "dc", "vc", "vdc", "bt", "saboxid",
+                                                "sbboxid"),
+    "CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET": ("saboxid", "sbboxid", "bt"),
+    "BOUNDARY_SPC_SET": ("cid",),
+    "CONSTRAINED_NODAL_RIGID_BODY_SPC": ("cid", "pnode", "drflag", "rrflag"),
+    "CONTROL_IMPLICIT_EIGENVALUE": ("center", "lflag", "rflag", "shfscl"),
 }  # fmt: skip
 
 
@@ -89,6 +108,11 @@ class Deck:
     motions: dict[int, dict[str, Any]] = field(default_factory=dict)
     curves: dict[int, np.ndarray] = field(default_factory=dict)
     part_sets: dict[int, list[int]] = field(default_factory=dict)
+    node_sets: dict[int, list[int]] = field(default_factory=dict)
+    curve_sidr: dict[int, int] = field(default_factory=dict)
+    composites: dict[int, dict[str, Any]] = field(default_factory=dict)
+    spcs: list[dict[str, Any]] = field(default_factory=list)
+    nodal_rigid_bodies: list[dict[str, Any]] = field(default_factory=list)
     title: str = ""
 
 
@@ -137,6 +161,8 @@ def _store(deck: Deck, block: KeywordBlock) -> None:
         _store_set(deck, block)
     elif name == "DEFINE_CURVE":
         _store_curve(deck, block)
+    elif name == "PART_COMPOSITE":
+        _store_composite(deck, block)
     else:
         cards = _cards(block)
         merged = {k: v for card in cards for k, v in card.items()}
@@ -159,7 +185,11 @@ def _file_fixed(deck: Deck, name: str, fields: dict[str, Any]) -> None:
     elif name.startswith("CONTROL_"):
         deck.controls[name] = fields
     elif name.startswith("CONTACT_"):
-        deck.contacts.append(fields)
+        deck.contacts.append({**fields, "kind": name})
+    elif name == "BOUNDARY_SPC_SET":
+        deck.spcs.append(fields)
+    elif name == "CONSTRAINED_NODAL_RIGID_BODY_SPC":
+        deck.nodal_rigid_bodies.append(fields)
     elif name == "INITIAL_VELOCITY_GENERATION":
         deck.velocities.append(fields)
     elif name == "BOUNDARY_PRESCRIBED_MOTION_RIGID":
@@ -232,25 +262,57 @@ def _store_set(deck: Deck, block: KeywordBlock) -> None:
     ids: list[int] = []
     for card in block.cards[1:]:
         ids += [int(v) for v in split_fields(card, block.name, 1, block.long).values() if v]  # type: ignore[call-overload]
+    sid = _id({**head, "where": block.where()}, "sid", block.name)
     if block.name == "SET_PART_LIST":
-        deck.part_sets[_id({**head, "where": block.where()}, "sid", block.name)] = ids
+        deck.part_sets[sid] = ids
+    else:
+        deck.node_sets[sid] = ids
 
 
 def _store_curve(deck: Deck, block: KeywordBlock) -> None:
     """*DEFINE_CURVE: LCID and (abscissa, ordinate) points; scale factors and offsets must be
-    their defaults (SFA = SFO = 1, OFFA = OFFO = 0, SIDR = DATTYP = 0)."""
+    their defaults (SFA = SFO = 1, OFFA = OFFO = 0, DATTYP = 0); SIDR 0 (transient) or 1 (the
+    dynamic relaxation phase only, kept in ``deck.curve_sidr`` for the bat reader)."""
     cards = [c for c in block.cards if c.text.strip()]
     if len(cards) < 2:
         raise SpecError(f"*DEFINE_CURVE at {block.where()}", len(cards), "a header and points")
     head = split_fields(cards[0], block.name, 0, block.long)
-    for name, default in (("sidr", 0), ("sfa", 1), ("sfo", 1), ("offa", 0), ("offo", 0),
-                          ("dattyp", 0)):  # fmt: skip
+    for name, default in (("sfa", 1), ("sfo", 1), ("offa", 0), ("offo", 0), ("dattyp", 0)):
         if head.get(name) not in (None, default, float(default)):
             raise SpecError(f"*DEFINE_CURVE.{name.upper()} at {block.where()}", head[name],
                             f"blank or {default}")  # fmt: skip
     points = [split_fields(c, block.name, 1, block.long) for c in cards[1:]]
     xy = np.array([[p.get("a1") or 0.0, p.get("o1") or 0.0] for p in points])
-    deck.curves[_id({**head, "where": block.where()}, "lcid", block.name)] = xy
+    lcid = _id({**head, "where": block.where()}, "lcid", block.name)
+    if head.get("sidr") not in (None, 0, 1):
+        raise SpecError(f"*DEFINE_CURVE.SIDR at {block.where()}", head["sidr"], "blank, 0 or 1")
+    deck.curves[lcid], deck.curve_sidr[lcid] = xy, int(head.get("sidr") or 0)  # type: ignore[call-overload]
+
+
+def _store_composite(deck: Deck, block: KeywordBlock) -> None:
+    """*PART_COMPOSITE: title, the PID card, then two layers (MID, THICK, B, TMID) a card."""
+    cards = [c for c in block.cards if c.text.strip()]
+    if len(cards) < 3:
+        raise SpecError(f"*PART_COMPOSITE at {block.where()}", f"{len(cards)} cards",
+                        "a title, the PID card and at least one layer card")  # fmt: skip
+    title = split_fields(cards[0], block.name, 0, block.long).get("title") or ""
+    fields = {**split_fields(cards[1], block.name, 1, block.long), "where": block.where()}
+    for name in ("adpopt", "thshel", "hgid", "nloc"):
+        if fields.get(name) not in (None, 0, 0.0):
+            raise SpecError(f"*PART_COMPOSITE.{name.upper()} at {block.where()}", fields[name],
+                            "blank or 0 (batball has no such feature)")  # fmt: skip
+    layers = []
+    for card in cards[2:]:
+        f = split_fields(card, block.name, 2, block.long)
+        for j in (1, 2):
+            if f.get(f"tmid{j}") not in (None, 0):
+                raise SpecError(f"*PART_COMPOSITE.TMID{j} at {card.where()}", f[f"tmid{j}"],
+                                "blank or 0 (no thermal materials)")  # fmt: skip
+            if f.get(f"mid{j}") is not None:
+                layers.append((f[f"mid{j}"], f.get(f"thick{j}") or 0.0, f.get(f"b{j}") or 0.0,
+                               card.where()))  # fmt: skip
+    deck.composites[_id(fields, "pid", block.name)] = {**fields, "title": str(title).strip(),
+                                                       "layers": layers}  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -289,6 +351,7 @@ def read_deck(
     """
     u = unit_system(units)
     deck = parse_deck(path)
+    _refuse_bat_keywords(deck, path)
     solid_parts = sorted({pid for _, pid, _, _ in deck.solids})
     if not solid_parts:
         raise SpecError(f"deck {path}", "no *ELEMENT_SOLID", "a hex-meshed body")
@@ -323,6 +386,23 @@ def read_deck(
         )  # fmt: skip
     test = "ccor" if isinstance(contacts[0].target, RigidCylinder) else "cor"
     return DeckModel(model, controls, test, speed, deck.title, u.name)
+
+
+def _refuse_bat_keywords(deck: Deck, path: str | Path) -> None:
+    """An impact or compression deck may not hold what only the bat reader honours."""
+    kinds = {c["kind"] for c in deck.contacts} - {"CONTACT_AUTOMATIC_SURFACE_TO_SURFACE"}
+    used = kinds | ({"PART_COMPOSITE"} if deck.composites else set())
+    used |= {name for name in deck.controls if name in BAT_KEYWORDS}
+    used |= {"BOUNDARY_SPC_SET"} if deck.spcs else set()
+    used |= {"CONSTRAINED_NODAL_RIGID_BODY_SPC"} if deck.nodal_rigid_bodies else set()
+    used |= {f"MAT_COMPOSITE_DAMAGE {m}" for m, v in deck.materials.items()
+             if v["kind"] == "MAT_COMPOSITE_DAMAGE"}  # fmt: skip
+    if used or any(deck.curve_sidr.values()):
+        raise SpecError(
+            f"deck {path}",
+            sorted(used) or "a SIDR 1 curve",
+            "a ball test's keywords only (a bat deck is read by the bat reader)",
+        )
 
 
 def _compression_controls(
@@ -577,8 +657,9 @@ def _rigid_velocity(deck: Deck, pid: int, mat: dict[str, Any], u: UnitSystem) ->
     if motion is None:
         return None
     where = f"*BOUNDARY_PRESCRIBED_MOTION_RIGID at {motion['where']}"
-    if motion.get("dof") != 3 or (motion.get("death") or 1e28) < 1e27:
-        raise SpecError(where, (motion.get("dof"), motion.get("death")), "DOF 3, no DEATH")
+    if motion.get("dof") != 3 or motion.get("vad") or (motion.get("death") or 1e28) < 1e27:
+        raise SpecError(where, (motion.get("dof"), motion.get("vad"), motion.get("death")),
+                        "DOF 3, VAD 0 (velocity), no DEATH")  # fmt: skip
     curve = _lookup({k: {"c": v} for k, v in deck.curves.items()}, motion.get("lcid"), where,
                     "*DEFINE_CURVE")["c"]  # fmt: skip
     end = deck.controls["CONTROL_TERMINATION"]["endtim"]

@@ -214,7 +214,26 @@ def bat_modes(
         n_modes: modes to compute, the six rigid-body modes included.
     """
     mesh = make_bat_mesh(spec, circumferential=circumferential, axial_size=axial_size)
-    section = bat_section(spec, mesh)
+    return shell_modes(
+        mesh, bat_section(spec, mesh), circumferential=circumferential, n_modes=n_modes
+    )
+
+
+def shell_modes(
+    mesh: ShellMesh, section: ShellSection, *, circumferential: int, n_modes: int = 30
+) -> BatModes:
+    """Free-free modes of a ring-numbered bat mesh with its section (insert bonded), labelled:
+    :func:`bat_modes` once the mesh and section exist (also the route of a keyword deck read
+    by :mod:`batball.io.keyword_bat_model`).
+
+    Args:
+        mesh: the bat's shells, numbered as :func:`~batball.mesh.bat.make_bat_mesh` numbers them
+            (outer rings of ``circumferential`` nodes first, then the insert's; point sets
+            ``"outer"`` and, for a double wall, ``"insert"``).
+        section: per-cell section constants.
+        circumferential: nodes around each ring.
+        n_modes: modes to compute, the six rigid-body modes included.
+    """
     stiffness = assemble_shell_stiffness(mesh, section)
     mass = assemble_shell_mass(mesh, section)
     if "insert" in mesh.point_sets:

@@ -37,18 +37,22 @@ NODE = {"nid": (1, 8), "x": (9, 24), "y": (25, 40), "z": (41, 56), "tc": (57, 64
 @pytest.fixture(scope="module")
 def deck() -> dict[str, list[list[str]]]:
     """The coarse ccor deck of ball type1 at 95 mph, as {keyword: [[data lines], ...]}."""
-    text = impact_deck(load_ball_spec("type1"), ImpactSetup("ccor", 95 * MPH, divisions=2))
-    blocks: dict[str, list[list[str]]] = {}
+    return blocks(impact_deck(load_ball_spec("type1"), ImpactSetup("ccor", 95 * MPH, divisions=2)))
+
+
+def blocks(text: str) -> dict[str, list[list[str]]]:
+    """{keyword: [[data lines of each occurrence], ...]} of a deck's text ($ lines skipped)."""
+    out: dict[str, list[list[str]]] = {}
     current: list[str] = []
     for line in text.splitlines():
         if line.startswith("$"):
             continue
         if line.startswith("*"):
             current = []
-            blocks.setdefault(line[1:].strip(), []).append(current)
+            out.setdefault(line[1:].strip(), []).append(current)
         else:
             current.append(line)
-    return blocks
+    return out
 
 
 def read(line: str, layout: dict[str, tuple[int, int]]) -> dict[str, str]:
