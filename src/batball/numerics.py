@@ -44,7 +44,7 @@ def prefer_wide_vectors() -> str | None:
     if not host.get("avx512f", False):
         return None
     features = host.flatten() + ",-prefer-256-bit"
-    numba.config.CPU_FEATURES = features
+    numba.config.CPU_FEATURES = features  # type: ignore[attr-defined]
     # so that Numba's reload of its configuration from the environment keeps it, and so that
     # worker processes (calibration pools, Dask) compile the same code
     os.environ["NUMBA_CPU_FEATURES"] = features
