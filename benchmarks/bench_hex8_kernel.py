@@ -39,9 +39,9 @@ def kernel_call(solver: ExplicitSolver) -> Callable[[], None]:
 
     def call() -> None:
         compute_hex8_forces(
-            s.points, s.velocities, m.mesh.cells, s.dt, m.cell_material, m.material_constants,
-            m.densities, w.volume0, s.s_inf, s.h, s.pressure, s.hg_state, c.type, c.coefficient,
-            w.q1, w.q2, w.nodal_forces, w.cell_volume, w.cell_dt, w.energy_increments,
+            s.points, s.velocities, w.cells, s.dt, w.cell_material, m.material_constants,
+            m.densities, s.history, c.type, c.coefficient, w.q1, w.q2, w.nodal_forces,
+            w.cell_volume, w.cell_dt, w.energy_increments,
         )  # fmt: skip
 
     return call

@@ -35,6 +35,7 @@ import numpy as np
 from batball.elements.hex8_block import (
     BLOCK,
     N_ROWS,
+    copy_history,
     element_block_fb_stiffness,
     element_block_fb_stiffness_2,
     element_block_fb_stiffness_3,
@@ -44,11 +45,13 @@ from batball.elements.hex8_block import (
     element_block_viscous,
     element_block_viscous_2,
     element_block_viscous_3,
-    gather_block,
     gather_material,
+    gather_nodes,
+    history_rows,
+    history_terms,
     material_factors,
-    scatter_block,
     scatter_forces,
+    scatter_outputs,
 )
 from batball.numerics import FASTMATH
 
@@ -65,26 +68,39 @@ HOURGLASS_TYPES = {
 ENERGY_INTERNAL, ENERGY_HOURGLASS, ENERGY_BULK_VISCOSITY = 0, 1, 2
 
 
+@nb.njit
+def slot_cells(slot: int, n_slots: int, n_cells: int) -> tuple[int, int]:
+    """The cells [first, end) of one slot of the element kernel: the blocks of BLOCK cells split
+    into ``n_slots`` equal contiguous runs (so a slot's cells are whole blocks of the history)."""
+    n_blocks = (n_cells + BLOCK - 1) // BLOCK
+    first = slot * n_blocks // n_slots * BLOCK
+    end = min((slot + 1) * n_blocks // n_slots * BLOCK, n_cells)
+    return first, end
+
+
 @nb.njit(inline="always")
-def _advance_slot(element_block, stiff, slot, factors, mesh, material, state, outputs, controls):
+def _advance_slot(element_block, stiff, slot, factors, mesh, material, history, outputs, controls):
     """The cells of one slot, block by block: their forces are added into the slot's nodal
     array; returns their (internal, hourglass, bulk) work [J]."""
     dt, hg_coefficient, q1, q2 = controls
-    nodal_forces = outputs[0]
-    n_slots, n_cells = nodal_forces.shape[0], mesh[2].shape[0]
-    first, end = slot * n_cells // n_slots, (slot + 1) * n_cells // n_slots
-    n_terms = state[1].shape[1] // 6  # Prony terms: h holds 6 columns per term
+    points, velocities, cells = mesh
+    nodal_forces, cell_volume, cell_dt = outputs[0], outputs[1], outputs[2]
+    first, end = slot_cells(slot, nodal_forces.shape[0], cells.shape[0])
+    n_terms = material[1].shape[1] // 2 - 1  # constants: 2 N + 2 columns
     w = np.empty((N_ROWS + 8 * (n_terms - 1)) * BLOCK)
     internal = 0.0
     hourglass = 0.0
     bulk = 0.0
     for start in range(first, end, BLOCK):
         n = min(BLOCK, end - start)
-        gather_block(w, start, n, mesh, material[3], state, stiff)
+        block = history[start // BLOCK]
+        gather_nodes(w, start, n, points, velocities, cells)
+        copy_history(w, block, stiff, True)
         gather_material(w, start, n, material[0], factors)
         a, b, c = element_block(w, n, dt, q1, q2, hg_coefficient)
-        scatter_block(w, start, n, state, outputs, stiff)
-        scatter_forces(w, start, n, mesh[2], nodal_forces[slot])
+        copy_history(w, block, stiff, False)
+        scatter_outputs(w, start, n, cell_volume, cell_dt)
+        scatter_forces(w, start, n, cells, nodal_forces[slot])
         internal += a
         hourglass += b
         bulk += c
@@ -92,7 +108,7 @@ def _advance_slot(element_block, stiff, slot, factors, mesh, material, state, ou
 
 
 @nb.njit(inline="always")
-def _advance_all(element_block, stiff, mesh, material, state, outputs, controls):
+def _advance_all(element_block, stiff, mesh, material, history, outputs, controls):
     """All cells, in the equal contiguous slots of ``nodal_forces``, one slot per parallel
     iteration (so each slot's nodal array has one writer and the sums do not depend on how the
     iterations are scheduled)."""
@@ -100,7 +116,7 @@ def _advance_all(element_block, stiff, mesh, material, state, outputs, controls)
     factors = material_factors(material[1], material[2], controls[0])
     for slot in nb.prange(energy_increments.shape[0]):
         internal, hourglass, bulk = _advance_slot(
-            element_block, stiff, slot, factors, mesh, material, state, outputs, controls
+            element_block, stiff, slot, factors, mesh, material, history, outputs, controls
         )
         energy_increments[slot, ENERGY_INTERNAL] = internal
         energy_increments[slot, ENERGY_HOURGLASS] = hourglass
@@ -112,60 +128,60 @@ def _advance_all(element_block, stiff, mesh, material, state, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
-def _forces_viscous(mesh, material, state, outputs, controls):
+def _forces_viscous(mesh, material, history, outputs, controls):
     """IHQ 1."""
-    _advance_all(element_block_viscous, False, mesh, material, state, outputs, controls)
+    _advance_all(element_block_viscous, False, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
-def _forces_fb_viscous(mesh, material, state, outputs, controls):
+def _forces_fb_viscous(mesh, material, history, outputs, controls):
     """IHQ 2 and 3."""
-    _advance_all(element_block_fb_viscous, False, mesh, material, state, outputs, controls)
+    _advance_all(element_block_fb_viscous, False, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
-def _forces_fb_stiffness(mesh, material, state, outputs, controls):
+def _forces_fb_stiffness(mesh, material, history, outputs, controls):
     """IHQ 4 and 5."""
-    _advance_all(element_block_fb_stiffness, True, mesh, material, state, outputs, controls)
+    _advance_all(element_block_fb_stiffness, True, mesh, material, history, outputs, controls)
 
 
 # The same for materials of 2 and 3 Prony terms (batball.materials.prony).
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
-def _forces_viscous_2(mesh, material, state, outputs, controls):
+def _forces_viscous_2(mesh, material, history, outputs, controls):
     """IHQ 1, two Prony terms."""
-    _advance_all(element_block_viscous_2, False, mesh, material, state, outputs, controls)
+    _advance_all(element_block_viscous_2, False, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
-def _forces_fb_viscous_2(mesh, material, state, outputs, controls):
+def _forces_fb_viscous_2(mesh, material, history, outputs, controls):
     """IHQ 2 and 3, two Prony terms."""
-    _advance_all(element_block_fb_viscous_2, False, mesh, material, state, outputs, controls)
+    _advance_all(element_block_fb_viscous_2, False, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
-def _forces_fb_stiffness_2(mesh, material, state, outputs, controls):
+def _forces_fb_stiffness_2(mesh, material, history, outputs, controls):
     """IHQ 4 and 5, two Prony terms."""
-    _advance_all(element_block_fb_stiffness_2, True, mesh, material, state, outputs, controls)
+    _advance_all(element_block_fb_stiffness_2, True, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
-def _forces_viscous_3(mesh, material, state, outputs, controls):
+def _forces_viscous_3(mesh, material, history, outputs, controls):
     """IHQ 1, three Prony terms."""
-    _advance_all(element_block_viscous_3, False, mesh, material, state, outputs, controls)
+    _advance_all(element_block_viscous_3, False, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
-def _forces_fb_viscous_3(mesh, material, state, outputs, controls):
+def _forces_fb_viscous_3(mesh, material, history, outputs, controls):
     """IHQ 2 and 3, three Prony terms."""
-    _advance_all(element_block_fb_viscous_3, False, mesh, material, state, outputs, controls)
+    _advance_all(element_block_fb_viscous_3, False, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
-def _forces_fb_stiffness_3(mesh, material, state, outputs, controls):
+def _forces_fb_stiffness_3(mesh, material, history, outputs, controls):
     """IHQ 4 and 5, three Prony terms."""
-    _advance_all(element_block_fb_stiffness_3, True, mesh, material, state, outputs, controls)
+    _advance_all(element_block_fb_stiffness_3, True, mesh, material, history, outputs, controls)
 
 
 #: Kernels keyed by (IHQ, Prony terms).
@@ -196,11 +212,7 @@ def compute_hex8_forces(
     cell_material: np.ndarray,
     material_constants: np.ndarray,
     densities: np.ndarray,
-    volume0: np.ndarray,
-    s_inf: np.ndarray,
-    h: np.ndarray,
-    pressure: np.ndarray,
-    hg_state: np.ndarray,
+    history: np.ndarray,
     hg_type: int,
     hg_coefficient: float,
     q1: float,
@@ -218,16 +230,16 @@ def compute_hex8_forces(
         cell_material: (n_cells,) row of ``material_constants`` (n_materials, 2 N + 2: K, G0,
             G_inf [Pa], beta_1 [1/s], then (G_i [Pa], beta_i [1/s]) for Prony terms i = 2..N;
             N = 1 is MAT_006's K, G0, G_inf, beta) and ``densities`` (n_materials,) [kg/m^3].
-        volume0: (n_cells,) initial volumes [m^3].
-        s_inf: (n_cells, 6) long-time deviatoric stress [Pa]; h: (n_cells, 6 N) relaxing
-            stresses of the N Prony terms (term-major; N = 1 for MAT_006) [Pa];
-            pressure: (n_cells,) [Pa];
-            hg_state: (n_cells, 4, 3) stiffness-form hourglass forces [N] (all updated in place).
+        history: (n_blocks, rows * BLOCK) in/out, the element history in the kernel's block
+            layout (:func:`batball.elements.hex8_block.pack_history` builds it from element-wise
+            arrays and ``unpack_history`` reads it): initial volume [m^3], long-time deviatoric
+            stress s_inf and the N Prony terms' relaxing stresses h [Pa], pressure [Pa] and the
+            stiffness-form hourglass forces [N].
         hg_type, hg_coefficient: LS-DYNA IHQ (a key of ``HOURGLASS_TYPES``) and QH/QM.
         q1, q2: bulk viscosity (0, 0 = off).
         nodal_forces: (n_slots, n_points, 3) in/out: the element forces [N] are ADDED here, the
-            cells split into n_slots equal contiguous slots, slot k adding into
-            ``nodal_forces[k]`` (the caller sums the slots and zeroes them; see
+            cells split into n_slots contiguous slots of whole blocks (:func:`slot_cells`), slot
+            k adding into ``nodal_forces[k]`` (the caller sums the slots and zeroes them; see
             :func:`batball.solvers.explicit_kernels.assemble_and_update`). One slot per thread
             makes the assembly parallel without atomics and without per-element force arrays.
         cell_volume: (n_cells,) out [m^3];
@@ -236,11 +248,16 @@ def compute_hex8_forces(
         energy_increments: (n_slots, 3) out: internal, hourglass, bulk-viscosity work [J] of
             each slot.
     """
-    n_terms = h.shape[1] // 6
-    if h.shape[1] != 6 * n_terms or material_constants.shape[1] != 2 * n_terms + 2:
+    n_terms = history_terms(history)
+    if material_constants.shape[1] != 2 * n_terms + 2:
         raise ValueError(
-            f"h has {h.shape[1]} columns and material_constants {material_constants.shape[1]}; "
-            "expected 6 N and 2 N + 2 for N Prony terms (N = 1 for MAT_006)"
+            f"the history holds {n_terms} Prony terms and material_constants has "
+            f"{material_constants.shape[1]} columns; expected 2 N + 2 for N terms"
+        )
+    n_blocks = -(-len(cells) // BLOCK)
+    if history.shape != (n_blocks, history_rows(n_terms) * BLOCK):
+        raise ValueError(
+            f"history has shape {history.shape}; {len(cells)} cells need {n_blocks} blocks"
         )
     if nodal_forces.shape[1:] != points.shape or nodal_forces.shape[0] != len(energy_increments):
         raise ValueError(
@@ -249,8 +266,8 @@ def compute_hex8_forces(
         )
     _KERNELS[hg_type, n_terms](
         (points, velocities, cells),
-        (cell_material, material_constants, densities, volume0),
-        (s_inf, h, pressure, hg_state),
+        (cell_material, material_constants, densities),
+        history,
         (nodal_forces, cell_volume, cell_dt, energy_increments),
         (float(dt), float(hg_coefficient), float(q1), float(q2)),
     )

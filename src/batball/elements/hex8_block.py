@@ -32,15 +32,83 @@ R_X = 0  # 24 node coordinates x^n [m] (node-major), then the 24 nodal forces [N
 R_V = 24  # 24 node velocities v^(n-1/2) [m/s]
 R_S = 48  # 6 s_inf [Pa]
 R_H = 54  # 6 h [Pa]
-R_HG = 60  # 12 hourglass forces of the stiffness form [N] (mode-major)
-R_P = 72  # pressure [Pa]
-R_V0 = 73  # initial volume [m^3]
+R_P = 60  # pressure [Pa]
+R_V0 = 61  # initial volume [m^3]
+R_HG = 62  # 12 hourglass forces of the stiffness form [N] (mode-major)
 R_MAT = 74  # 6 material factors, the columns of material_factors()
 R_VOL = 80  # volume [m^3]
 R_DT = 81  # stable step [s]
 N_ROWS = 82
 # A material with N Prony terms (N > 1) adds rows after N_ROWS: 6 (N - 1) rows of the further
 # terms' h (term-major), then 2 (N - 1) rows of their (decay, scale) factors.
+
+# The element history (what a cycle carries to the next) is kept between cycles in the block
+# layout itself, ``history[b, r * BLOCK + e]`` for cell b * BLOCK + e, with the rows
+# R_S..R_V0 (N_CORE_ROWS), then the 12 hourglass rows, then the further Prony terms' h: loading
+# and saving a block's history are then contiguous copies (no transposition).
+N_CORE_ROWS = R_HG - R_S
+N_HOURGLASS_ROWS = R_MAT - R_HG
+
+
+def history_rows(n_terms: int) -> int:
+    """Rows of one block's history for a material of ``n_terms`` Prony terms."""
+    return N_CORE_ROWS + N_HOURGLASS_ROWS + 6 * (n_terms - 1)
+
+
+def history_terms(history: np.ndarray) -> int:
+    """The number of Prony terms a history array (n_blocks, rows * BLOCK) is laid out for."""
+    rows, extra = divmod(history.shape[1], BLOCK)
+    n_terms = (rows - N_CORE_ROWS - N_HOURGLASS_ROWS) // 6 + 1
+    if extra or n_terms < 1 or history_rows(n_terms) != rows:
+        raise ValueError(f"history has {history.shape[1]} columns: not a hex8 block history")
+    return n_terms
+
+
+def pack_history(
+    volume0: np.ndarray,
+    s_inf: np.ndarray | None = None,
+    h: np.ndarray | None = None,
+    pressure: np.ndarray | None = None,
+    hg_state: np.ndarray | None = None,
+    n_terms: int = 1,
+) -> np.ndarray:
+    """The block history (n_blocks, rows * BLOCK) of cells with initial volumes ``volume0``
+    (n_cells,) [m^3] and the element-wise s_inf (n_cells, 6), h (n_cells, 6 N), pressure
+    (n_cells,) [Pa] and hg_state (n_cells, 4, 3) [N] (zero where not given)."""
+    n_cells = len(volume0)
+    n_blocks = -(-n_cells // BLOCK)
+    columns = np.zeros((n_blocks * BLOCK, history_rows(n_terms)))
+    columns[:n_cells, R_V0 - R_S] = volume0
+    if s_inf is not None:
+        columns[:n_cells, R_S - R_S : R_S - R_S + 6] = s_inf
+    if h is not None:
+        columns[:n_cells, R_H - R_S : R_H - R_S + 6] = h[:, :6]
+        columns[:n_cells, N_CORE_ROWS + N_HOURGLASS_ROWS :] = h[:, 6:]
+    if pressure is not None:
+        columns[:n_cells, R_P - R_S] = pressure
+    if hg_state is not None:
+        columns[:n_cells, N_CORE_ROWS : N_CORE_ROWS + N_HOURGLASS_ROWS] = hg_state.reshape(-1, 12)
+    blocks = columns.reshape(n_blocks, BLOCK, -1).transpose(0, 2, 1)
+    return np.ascontiguousarray(blocks).reshape(n_blocks, -1)
+
+
+def unpack_history(history: np.ndarray, n_cells: int) -> dict[str, np.ndarray]:
+    """The element-wise arrays of a block history (copies): ``volume0`` (n_cells,) [m^3],
+    ``s_inf`` (n_cells, 6), ``h`` (n_cells, 6 N), ``pressure`` (n_cells,) [Pa] and ``hg_state``
+    (n_cells, 4, 3) [N]."""
+    n_terms = history_terms(history)
+    rows = history_rows(n_terms)
+    columns = history.reshape(history.shape[0], rows, BLOCK).transpose(0, 2, 1)
+    columns = columns.reshape(-1, rows)[:n_cells]
+    core = N_CORE_ROWS + N_HOURGLASS_ROWS
+    return {
+        "volume0": columns[:, R_V0 - R_S].copy(),
+        "s_inf": columns[:, :6].copy(),
+        "h": np.concatenate([columns[:, R_H - R_S : R_H - R_S + 6], columns[:, core:]], axis=1),
+        "pressure": columns[:, R_P - R_S].copy(),
+        "hg_state": columns[:, N_CORE_ROWS:core].reshape(n_cells, 4, 3).copy(),
+    }
+
 
 # Columns of material_factors(): density, K, K + 4/3 G0, 2 G_inf, exp(-beta_1 dt), the relaxing
 # modulus of term 1, 2 G_1 (1 - exp(-beta_1 dt)) / (beta_1 dt) with
@@ -287,43 +355,36 @@ element_block_fb_stiffness_3 = _make_element_block(True, True, 3)
 
 
 @nb.njit
-def gather_block(
-    w: np.ndarray,
-    start: int,
-    n: int,
-    mesh: tuple[np.ndarray, np.ndarray, np.ndarray],
-    volume0: np.ndarray,
-    state: tuple[np.ndarray, ...],
-    stiff: bool,
+def gather_nodes(
+    w: np.ndarray, start: int, n: int, points: np.ndarray, velocities: np.ndarray,
+    cells: np.ndarray,
 ) -> None:
-    """Rows of cells start..start+n-1: node coordinates and velocities, initial volume, stresses,
-    pressure and (``stiff``) hourglass forces.
-
-    Args:
-        mesh: (points, velocities, cells); state: (s_inf, h, pressure, hg_state), as in
-            ``compute_hex8_forces``.
-    """
-    points, velocities, cells = mesh[0], mesh[1], mesh[2][start : start + n]
-    s_inf, h = state[0][start : start + n], state[1][start : start + n]
-    pressure, hourglass = state[2][start : start + n], state[3][start : start + n]
-    volume0 = volume0[start : start + n]
+    """Rows R_X and R_V of cells start..start+n-1: their nodes' coordinates x^n [m] and
+    velocities v^(n-1/2) [m/s]."""
+    cells = cells[start : start + n]
     for e in range(n):
         for a in range(8):
             node = cells[e, a]
             for i in range(3):
                 w[at(R_X + 3 * a + i, e)] = points[node, i]
                 w[at(R_V + 3 * a + i, e)] = velocities[node, i]
-        for k in range(6):
-            w[at(R_S + k, e)] = s_inf[e, k]
-            w[at(R_H + k, e)] = h[e, k]
-        for k in range(6, h.shape[1]):  # further Prony terms
-            w[at(N_ROWS + k - 6, e)] = h[e, k]
-        w[at(R_P, e)] = pressure[e]
-        w[at(R_V0, e)] = volume0[e]
-        if stiff:
-            for mode in range(4):
-                for i in range(3):
-                    w[at(R_HG + 3 * mode + i, e)] = hourglass[e, mode, i]
+
+
+@nb.njit
+def copy_history(w: np.ndarray, block: np.ndarray, stiff: bool, load: bool) -> None:
+    """Copy one block's history (a row of the history array) into the scratch (``load``) or
+    back: the rows R_S..R_V0, the hourglass rows when ``stiff``, and the further Prony terms'
+    h (contiguous copies)."""
+    core = N_CORE_ROWS * BLOCK
+    hourglass = N_HOURGLASS_ROWS * BLOCK
+    extra = block.shape[0] - core - hourglass
+    segments = ((0, R_S * BLOCK, core), (core, R_HG * BLOCK, hourglass if stiff else 0),
+                (core + hourglass, N_ROWS * BLOCK, extra))  # fmt: skip
+    for first, row, size in segments:
+        if load:
+            w[row : row + size] = block[first : first + size]
+        else:
+            block[first : first + size] = w[row : row + size]
 
 
 @nb.njit
@@ -348,36 +409,13 @@ def gather_material(
 
 
 @nb.njit
-def scatter_block(
-    w: np.ndarray,
-    start: int,
-    n: int,
-    state: tuple[np.ndarray, ...],
-    outputs: tuple[np.ndarray, ...],
-    stiff: bool,
+def scatter_outputs(
+    w: np.ndarray, start: int, n: int, cell_volume: np.ndarray, cell_dt: np.ndarray
 ) -> None:
-    """Updated stresses, pressure and (``stiff``) hourglass forces, and the volumes and stable
-    steps, back to cells start..start+n-1.
-
-    Args:
-        state: (s_inf, h, pressure, hg_state); outputs: (nodal_forces, cell_volume, cell_dt, ...).
-    """
-    s_inf, h = state[0][start : start + n], state[1][start : start + n]
-    pressure, hourglass = state[2][start : start + n], state[3][start : start + n]
-    volume, step = outputs[1][start : start + n], outputs[2][start : start + n]
+    """The volumes [m^3] and stable steps [s] of cells start..start+n-1."""
     for e in range(n):
-        for k in range(6):
-            s_inf[e, k] = w[at(R_S + k, e)]
-            h[e, k] = w[at(R_H + k, e)]
-        for k in range(6, h.shape[1]):  # further Prony terms
-            h[e, k] = w[at(N_ROWS + k - 6, e)]
-        pressure[e] = w[at(R_P, e)]
-        volume[e] = w[at(R_VOL, e)]
-        step[e] = w[at(R_DT, e)]
-        if stiff:
-            for mode in range(4):
-                for i in range(3):
-                    hourglass[e, mode, i] = w[at(R_HG + 3 * mode + i, e)]
+        cell_volume[start + e] = w[at(R_VOL, e)]
+        cell_dt[start + e] = w[at(R_DT, e)]
 
 
 @nb.njit

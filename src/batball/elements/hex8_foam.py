@@ -35,6 +35,7 @@ from typing import Any
 import numba as nb
 import numpy as np
 
+from batball.elements.hex8 import slot_cells
 from batball.elements.hex8_geometry import (
     modal_largest_face_area,
     modal_sums,
@@ -215,8 +216,7 @@ def _foam_forces(mesh, material, state, outputs, energy_increments, controls):
     n_cells = cells.shape[0]
     n_chunks = energy_increments.shape[0]
     for chunk in nb.prange(n_chunks):
-        first = chunk * n_cells // n_chunks
-        end = (chunk + 1) * n_cells // n_chunks
+        first, end = slot_cells(chunk, n_chunks, n_cells)
         scratch = np.empty((6, 3, 3))
         saved = np.empty(N_HISTORY)
         internal = 0.0

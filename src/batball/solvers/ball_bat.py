@@ -33,6 +33,7 @@ import numpy as np
 
 from batball.contact.segments import SegmentContact
 from batball.elements.hex8 import compute_hex8_forces
+from batball.elements.hex8_block import pack_history
 from batball.elements.shell_bt import HOURGLASS_RATIO, ShellForceState, bt_force_kernel
 from batball.elements.shell_bt_section import LayeredSection
 from batball.errors import SimulationError
@@ -148,8 +149,7 @@ def ball_internal_forces(
     """The ball's element forces (hex8 kernel) summed to its nodes: ``forces`` (n_ball, 3) [N]
     (the force on the nodes, m a = f); also fills ``state``'s stable steps and energy slots."""
     compute_hex8_forces(points, velocities, part.cells, dt, state.cell_material,
-                        part.material_constants, np.array([part.density]), part.volume0,
-                        state.s_inf, state.h, state.pressure, state.hg_state,
+                        part.material_constants, np.array([part.density]), state.history,
                         part.hourglass_type, part.hourglass_coefficient, part.q1, part.q2,
                         state.nodal_forces, state.cell_volume, state.cell_dt,
                         state.energy_increments)  # fmt: skip
@@ -186,10 +186,7 @@ class BallState:
     """The ball's element histories and per-cycle work arrays."""
 
     cell_material: np.ndarray
-    s_inf: np.ndarray
-    h: np.ndarray
-    pressure: np.ndarray
-    hg_state: np.ndarray
+    history: np.ndarray  # the hex kernel's block layout (hex8_block.pack_history)
     nodal_forces: np.ndarray  # (n_slots, n_points, 3): compute_hex8_forces' per-thread slots
     cell_volume: np.ndarray
     cell_dt: np.ndarray
@@ -201,10 +198,10 @@ class BallState:
         n = part.cells.shape[0]
         n_slots = max(1, min(n, nb.get_num_threads()))  # one per thread (compute_hex8_forces)
         n_points = len(part.mass)
-        return cls(np.zeros(n, dtype=np.int64), np.zeros((n, 6)),
-                   np.zeros((n, 3 * part.material_constants.shape[1] - 6)), np.zeros(n),
-                   np.zeros((n, 4, 3)), np.zeros((n_slots, n_points, 3)), np.zeros(n),
-                   np.zeros(n), np.zeros((n_slots, 3)))  # fmt: skip
+        n_terms = part.material_constants.shape[1] // 2 - 1
+        return cls(np.zeros(n, dtype=np.int64), pack_history(part.volume0, n_terms=n_terms),
+                   np.zeros((n_slots, n_points, 3)), np.zeros(n), np.zeros(n),
+                   np.zeros((n_slots, 3)))  # fmt: skip
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)

@@ -22,6 +22,7 @@ import numpy as np
 
 from batball.contact.rigid import N_TARGET_PARAMS, RigidCylinder, RigidPlane
 from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces
+from batball.elements.hex8_block import pack_history
 from batball.elements.hex8_foam import N_FOAM_HISTORY, foam_element_forces
 from batball.errors import SimulationError, SpecError
 from batball.materials.foam import FoamTable
@@ -152,16 +153,16 @@ class State:
     """The evolving state: positions x^n, velocities v^(n-1/2) and the element histories.
 
     ``clock`` and ``counters`` hold time, step sizes, contact times and the step count in the
-    slots named in :mod:`batball.solvers.explicit_kernels`.
+    slots named in :mod:`batball.solvers.explicit_kernels`. ``history`` is the viscoelastic
+    element history in the hex kernel's block layout (``hex8_block.unpack_history`` gives the
+    element-wise stresses); a foam body keeps ``foam_history`` and ``hg_state`` instead.
     """
 
     clock: np.ndarray
     counters: np.ndarray
     points: np.ndarray
     velocities: np.ndarray
-    s_inf: np.ndarray
-    h: np.ndarray
-    pressure: np.ndarray
+    history: np.ndarray
     hg_state: np.ndarray
     energies: np.ndarray  # internal, hourglass, bulk viscosity, contact, damping [J]
     foam_history: np.ndarray = field(default_factory=lambda: np.zeros((0, N_FOAM_HISTORY)))
@@ -230,9 +231,11 @@ ENERGY_COLUMNS = (
 BALANCE = ENERGY_COLUMNS.index("balance_error")
 
 
-def initial_state(model: Model) -> State:
-    """The state at t = 0: undeformed, unstressed, moving with the initial velocity."""
+def initial_state(model: Model, volume0: np.ndarray) -> State:
+    """The state at t = 0: undeformed, unstressed, moving with the initial velocity (element
+    volumes ``volume0`` [m^3])."""
     n_cells = model.mesh.n_cells
+    n_terms = model.material_constants.shape[1] // 2 - 1
     clock = np.zeros(5)
     clock[[kern.CONTACT_BEGAN, kern.LAST_CONTACT]] = -1.0
     return State(
@@ -240,10 +243,8 @@ def initial_state(model: Model) -> State:
         counters=np.zeros(2, dtype=np.int64),
         points=model.mesh.points.copy(),
         velocities=model.initial_velocity.copy(),
-        s_inf=np.zeros((n_cells, 6)),
-        h=np.zeros((n_cells, 3 * model.material_constants.shape[1] - 6)),  # 6 per Prony term
-        pressure=np.zeros(n_cells),
-        hg_state=np.zeros((n_cells, 4, 3)),
+        history=pack_history(volume0, n_terms=n_terms),
+        hg_state=np.zeros((n_cells if model.foam else 0, 4, 3)),
         energies=np.zeros(kern.N_ENERGIES),
         foam_history=np.zeros((n_cells if model.foam else 0, N_FOAM_HISTORY)),
     )
@@ -346,7 +347,7 @@ class ExplicitSolver:
         self.model = model
         self.controls = controls
         self.work = _Workspace(model, controls)
-        self.state = initial_state(model)
+        self.state = initial_state(model, self.work.volume0)
         self.phase_seconds = {"element_forces": 0.0, "rest_of_cycle": 0.0}
         self.kinetic0 = float(0.5 * np.sum(self.work.mass[:, None] * model.initial_velocity**2))
         self.total_mass = float(self.work.mass.sum())
@@ -378,11 +379,7 @@ class ExplicitSolver:
             w.cell_material,
             m.material_constants,
             m.densities,
-            w.volume0,
-            s.s_inf,
-            s.h,
-            s.pressure,
-            s.hg_state,
+            s.history,
             c.type,
             c.coefficient,
             w.q1,

@@ -11,6 +11,7 @@ import numba as nb
 import numpy as np
 
 from batball.contact.rigid import add_rigid_contact_forces
+from batball.elements.hex8 import slot_cells
 from batball.numerics import FASTMATH
 
 #: :func:`finish_cycle` outcomes: go on, or stop (separation), or fail (negative).
@@ -40,13 +41,12 @@ CONTACT_ENERGY, DAMPING_ENERGY, N_ENERGIES = 3, 4, 5
 
 def slot_node_ranges(cells: np.ndarray, n_slots: int) -> np.ndarray:
     """The node ids each slot of the element kernel can write: (n_slots, 2) [lowest, highest + 1]
-    over the slot's cells (the cells split into equal contiguous slots as in
-    :func:`batball.elements.hex8.compute_hex8_forces`). The update reads and clears a slot's
-    nodal forces only inside its range."""
-    n_cells = cells.shape[0]
+    over the slot's cells (:func:`batball.elements.hex8.slot_cells`, as the element kernel
+    splits them). The update reads and clears a slot's nodal forces only inside its range."""
     ranges = np.zeros((n_slots, 2), dtype=np.int64)
     for slot in range(n_slots):
-        part = cells[slot * n_cells // n_slots : (slot + 1) * n_cells // n_slots]
+        first, end = slot_cells(slot, n_slots, cells.shape[0])
+        part = cells[first:end]
         if part.size:
             ranges[slot] = part.min(), part.max() + 1
     return ranges

@@ -16,7 +16,13 @@ import numpy as np
 import pytest
 
 from batball.elements.hex8 import compute_hex8_forces
-from batball.elements.hex8_block import BLOCK, N_ROWS, element_block_viscous
+from batball.elements.hex8_block import (
+    BLOCK,
+    N_ROWS,
+    element_block_viscous,
+    pack_history,
+    unpack_history,
+)
 
 CORNERS = np.array(
     [[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
@@ -161,13 +167,16 @@ def run_kernel(model: dict, hg_type: int, qh: float, q1: float, q2: float, n_chu
            "dt": np.zeros(n_cells), "energy": np.zeros((n_chunks, 3))}  # fmt: skip
     constants = np.array([[x.bulk, x.g0, x.g_inf, x.beta] for x in MATERIALS])
     densities = np.array([x.density for x in MATERIALS])
+    history = pack_history(m["volume0"], m["s_inf"], m["h"], m["pressure"], m["hg_state"])
     compute_hex8_forces(
         m["points"], m["velocities"], m["cells"], m["dt"], m["cell_material"], constants,
-        densities, m["volume0"], m["s_inf"], m["h"], m["pressure"], m["hg_state"], hg_type, qh,
-        q1, q2, out["slots"], out["volume"], out["dt"], out["energy"],
+        densities, history, hg_type, qh, q1, q2, out["slots"], out["volume"], out["dt"],
+        out["energy"],
     )  # fmt: skip
-    return out | {"forces": out["slots"].sum(axis=0), "s_inf": m["s_inf"], "h": m["h"],
-                  "pressure": m["pressure"], "hg": m["hg_state"],
+    h = unpack_history(history, n_cells)
+    assert np.all(h["volume0"] == m["volume0"])
+    return out | {"forces": out["slots"].sum(axis=0), "s_inf": h["s_inf"], "h": h["h"],
+                  "pressure": h["pressure"], "hg": h["hg_state"],
                   "energy": out["energy"].sum(axis=0)}  # fmt: skip
 
 

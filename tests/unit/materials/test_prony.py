@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from batball.elements.hex8 import compute_hex8_forces
+from batball.elements.hex8_block import pack_history, unpack_history
 from batball.materials import MATERIAL_LAWS
 from batball.materials.prony import relaxation_modulus
 
@@ -30,8 +31,7 @@ def drive_pure_shear(constants: np.ndarray, *, rate: float, dt: float, n_steps: 
     points = CUBE.copy()
     grad = np.array([[0.0, 0.5 * rate, 0.0], [0.5 * rate, 0.0, 0.0], [0.0, 0.0, 0.0]])
     cells = np.arange(8)[None, :]
-    s_inf, h = np.zeros((1, 6)), np.zeros((1, 6 * n_terms))
-    pressure, hg = np.zeros(1), np.zeros((1, 4, 3))
+    history = pack_history(np.array([1e-6]), n_terms=n_terms)
     forces, volume, step, energy = np.zeros((1, 8, 3)), np.zeros(1), np.zeros(1), np.zeros((1, 3))
     tau = np.empty(n_steps)
     for n in range(n_steps):
@@ -39,10 +39,10 @@ def drive_pure_shear(constants: np.ndarray, *, rate: float, dt: float, n_steps: 
         points = points + dt * velocities
         compute_hex8_forces(
             points, velocities, cells, dt, np.zeros(1, dtype=np.int64), constants[None, :],
-            np.array([1000.0]), np.array([1e-6]), s_inf, h, pressure, hg, 1, 0.0, 0.0, 0.0,
-            forces, volume, step, energy,
+            np.array([1000.0]), history, 1, 0.0, 0.0, 0.0, forces, volume, step, energy,
         )  # fmt: skip
-        tau[n] = s_inf[0, 3] + h[0, 3::6].sum()
+        stresses = unpack_history(history, 1)
+        tau[n] = stresses["s_inf"][0, 3] + stresses["h"][0, 3::6].sum()
     return tau
 
 
