@@ -59,7 +59,7 @@ from batball.specs import BallSpec
 from batball.specs.ball import MaterialSpec
 from batball.specs.bat import BatSpec
 
-MPH = 0.44704  # m/s
+IN = 0.0254  # m
 #: batball's dynamic relaxation factor (LS-DYNA DRFCTR's default), the only one it runs.
 DRFCTR = 0.995
 #: How far a rebuilt node may lie from the deck's, over the bat's length (as the bat reader).
@@ -106,7 +106,7 @@ def read_bbs_deck(
     setup = BbsSetup(
         speed=ball_speed(bat, ball_pid, velocity), pitch_speed=pitch_speed,
         swing_speed=swing_speed, impact_from_cap=spec.length - float(centre[0]),
-        pivot_from_knob=middle, pivot_band=0.5 * float(np.ptp(band_x)) + 1e-9,
+        pivot_from_knob=middle, pivot_band=min(0.5 * float(np.ptp(band_x)) + 1e-9, 3.0 * IN),
         ball_divisions=ball_divisions(ball_mesh), gap=ball_gap(spec, ball, centre),
         end_time=controls.end_time, separation_time=separation_time,
         time_step_scale=controls.time_step_scale, hourglass=_hourglass(bat.deck, [ball_pid]),
@@ -325,7 +325,7 @@ def run_bbs_deck(bat: BatDeck, *, separation_time: float = BbsSetup.separation_t
     result = BbsResult(read.bat, read.ball, read.setup, read.model, run,
                        measure_bbs(read.model, run, read.setup))  # fmt: skip
     summary = summarise_bbs(result, time.perf_counter() - start)
-    summary.update(title=bat.title, pivot_from_knob_in=read.setup.pivot_from_knob / 0.0254,
+    summary.update(title=bat.title, pivot_from_knob_in=read.setup.pivot_from_knob / IN,
                    pivot_band_nodes=int(read.model.coupled.bat.band.size),
-                   pivot_offset_from_band_centre_in=read.band_offset / 0.0254)  # fmt: skip
+                   pivot_offset_from_band_centre_in=read.band_offset / IN)  # fmt: skip
     return summary
