@@ -615,8 +615,9 @@ def add_run_deck_parser(sub: Any) -> None:
     p.add_argument("--units", default="in-lbf-s", help="the deck's units (default in-lbf-s)")
     p.add_argument(
         "--separation-time",
-        default="0.1 ms",
-        help="stop this long after the ball leaves the target ('none' runs to ENDTIM)",
+        default=None,
+        help="stop this long after the ball leaves the target (0.1 ms; bbs decks 0.2 ms, as "
+        "batball bbs; 'none' runs an impact deck to ENDTIM)",
     )
     p.add_argument("--contact-threshold", type=float, default=0.01, help="contact-time level")
     p.add_argument(
@@ -633,10 +634,11 @@ def run_deck_command(args: argparse.Namespace) -> int:
 
     if parse_deck(args.deck).composites:
         return run_bat_deck_command(args)
+    text = args.separation_time or "0.1 ms"
     separation = (
         None
-        if args.separation_time.strip().lower() == "none"
-        else parse_quantity(args.separation_time, "time", field="separation-time")
+        if text.strip().lower() == "none"
+        else parse_quantity(text, "time", field="separation-time")
     )
     displacement = parse_quantity(args.displacement, "length", field="displacement")
     deck = read_deck(
@@ -862,18 +864,13 @@ def bat_export_bbs_setup(args: argparse.Namespace, mesh: dict[str, Any]) -> Any:
 
 
 def run_bat_deck_command(args: argparse.Namespace) -> int:
-    """``batball run`` of a bat deck: a modal or barrel deck runs; a bbs deck is read and
-    checked, then refused with exit 2 (batball cannot run it from a deck yet)."""
+    """``batball run`` of a bat deck: modal, barrel or bbs (docs/lsdyna.md)."""
     from batball.io.keyword_bat_barrel import run_barrel_deck
     from batball.io.keyword_bat_model import read_bat_deck, run_modal_deck
 
     bat = read_bat_deck(args.deck, units=args.units)
     if bat.test == "bbs":
-        raise SpecError(
-            f"deck {args.deck}", f"a bbs deck ({bat.mesh.n_cells} shells, read and checked)",
-            "a modal or barrel deck: batball's bbs solver builds its contacts and pivot from "
-            "the bat spec, not from a deck; run 'batball bbs' (docs/lsdyna.md)",
-        )  # fmt: skip
+        return run_bbs_deck_command(args, bat)
     summary = run_modal_deck(bat) if bat.test == "modal" else run_barrel_deck(bat)
     summary["deck"] = str(args.deck)
     if args.json:
@@ -888,4 +885,23 @@ def run_bat_deck_command(args: argparse.Namespace) -> int:
             "  bending " + (", ".join(f"{f:.1f} Hz" for f in summary["bending_hz"]) or "none"),
             "  hoop    " + (", ".join(f"{f:.1f} Hz" for f in summary["hoop_hz"]) or "none"),
         ]))  # fmt: skip
+    return 0
+
+
+def run_bbs_deck_command(args: argparse.Namespace, bat: Any) -> int:
+    """``batball run`` of a bbs deck: the summary ``batball bbs`` prints (no run folder)."""
+    from batball.io.keyword_bat_bbs import run_bbs_deck
+    from batball.units import parse_quantity
+
+    text = args.separation_time or "0.2 ms"
+    if text.strip().lower() == "none":
+        raise SpecError("separation-time", text, "a time: the rebound is read over it (0.2 ms)")
+    separation = parse_quantity(text, "time", field="separation-time")
+    summary = run_bbs_deck(bat, separation_time=separation)
+    summary["deck"] = str(args.deck)
+    summary["run_folder"] = None
+    if args.json:
+        print(json.dumps(summary, indent=2))
+        return 0
+    print(describe_bbs({**summary, "run_folder": f"none (deck {args.deck})"}))
     return 0

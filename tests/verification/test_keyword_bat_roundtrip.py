@@ -1,5 +1,6 @@
 """The bat tests' keyword decks read back: export -> read -> run equals the direct run (modal,
-barrel); export -> read equals the exported model (barrel, bbs: batball does not run bbs decks).
+barrel); export -> read equals the exported model (barrel, bbs; the bbs run round trip is in
+test_keyword_bbs_roundtrip.py).
 
 Tolerances: long format (20-column fields, shortest repr) keeps every double, so the model read
 back is the direct one to 1e-12; the modal frequencies then agree to the eigen-solver's

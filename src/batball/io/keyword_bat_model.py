@@ -12,9 +12,9 @@ node count first, then the insert's), which the exported decks keep; another num
 
 What batball runs from a deck: the modal test (:func:`run_modal_deck`, the same
 :func:`~batball.lab.modal.shell_modes` as ``batball modal``). The barrel and bbs decks are read
-(bat, platens, supports, ball, velocities, contacts, pivot) into :class:`BatDeck` for inspection
-and checks, but not run: batball's barrel and bbs solvers build their contacts from the bat spec
-(bore radius, interference, platen protocol), not from a mesh; ``batball run`` says so.
+(bat, platens, supports, ball, velocities, contacts, pivot) into :class:`BatDeck` here and run by
+:mod:`batball.io.keyword_bat_barrel` and :mod:`batball.io.keyword_bat_bbs`, which turn the deck
+back into the specs those tests build their contacts from.
 """
 
 from __future__ import annotations
@@ -310,8 +310,8 @@ def run_modal_deck(bat: BatDeck) -> dict[str, Any]:
         raise SpecError(
             "deck",
             bat.test,
-            "a modal deck (batball runs only those of the bat "
-            "decks; barrel and bbs decks are read, see docs/lsdyna.md)",
+            "a modal deck (barrel and bbs decks run through keyword_bat_barrel and "
+            "keyword_bat_bbs, see docs/lsdyna.md)",
         )
     modes = shell_modes(bat.mesh, bat.section(), circumferential=bat.circumferential,
                         n_modes=bat.n_modes)  # fmt: skip

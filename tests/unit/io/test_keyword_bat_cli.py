@@ -42,12 +42,25 @@ def test_exported_barrel_deck_runs(tmp_path: Path, capsys: pytest.CaptureFixture
     assert summary["orientation_deg"] == 0.0 and summary["final_load_lbf"] > summary["preload_lbf"]
 
 
-def test_bbs_deck_is_read_then_refused_with_exit_2(
+def test_exported_bbs_deck_runs_with_the_keys_of_batball_bbs(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     deck = tmp_path / "bbs.k"
-    extra = ["--divisions", "2", "--pivot-band", "1 in"]
+    extra = ["--divisions", "3", "--pivot-band", "0.5 in"]
     assert main(["export", "bbs", *MESH, *extra, "-o", str(deck)]) == 0
     capsys.readouterr()
-    assert main(["run", str(deck)]) == 2
-    assert "a bbs deck" in capsys.readouterr().err
+    assert main(["run", str(deck), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    direct_args = ["bbs", *MESH, "--ball-divisions", "3", "--pivot-band", "0.5 in", "--json",
+                   "--runs-dir", str(tmp_path)]  # fmt: skip
+    assert main(direct_args) == 0
+    direct = json.loads(capsys.readouterr().out)
+    assert summary.keys() >= direct.keys()
+    assert summary["inbound_mph"] == pytest.approx(direct["inbound_mph"], rel=1e-12)
+    assert summary["pivot_to_impact_in"] == pytest.approx(direct["pivot_to_impact_in"], rel=1e-9)
+    # the pre-stressed double wall is ill-conditioned at round-off level (insert nodes under the
+    # barrel's facet corners, docs/lsdyna.md): e_A moves by up to 0.007 for a 1e-15 change of a
+    # coordinate in the direct run itself; the tight comparison is the single-wall one in
+    # tests/verification/test_keyword_bbs_roundtrip.py
+    assert summary["collision_efficiency"] == pytest.approx(direct["collision_efficiency"],
+                                                            abs=0.02)  # fmt: skip
