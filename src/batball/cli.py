@@ -794,8 +794,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 3
 
 
-if __name__ == "__main__":
-    sys.exit(main())
 
 
 # --- batball export modal|barrel|bbs, batball run of a bat deck (issue 11) ----------------------
@@ -905,3 +903,7 @@ def run_bbs_deck_command(args: argparse.Namespace, bat: Any) -> int:
         return 0
     print(describe_bbs({**summary, "run_folder": f"none (deck {args.deck})"}))
     return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
