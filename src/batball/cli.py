@@ -794,8 +794,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 3
 
 
-
-
 # --- batball export modal|barrel|bbs, batball run of a bat deck (issue 11) ----------------------
 
 BAT_EXPORTS = ("modal", "barrel", "bbs")
