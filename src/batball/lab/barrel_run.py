@@ -33,11 +33,11 @@ from batball.lab.barrel import (
     BarrelResult,
     BarrelTestOptions,
     Prestress,
-    along,
     build_barrel_model,
     compute_prestress,
     contact_areas,
     halves,
+    insert_cosines,
     load_axes,
     membrane_stress,
     run_barrel_compression,
@@ -121,7 +121,7 @@ def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any
     barrel_cells = np.concatenate([model.mesh.cell_sets[p.name] for p in model.spec.parts
                                    if p.name.startswith("barrel")])  # fmt: skip
     curve = result.curves[0]
-    cosine = along(model.interference, load_axes(curve.orientation_deg)[0], model.mesh.n_points)
+    cosine = insert_cosines(model, load_axes(curve.orientation_deg)[0])
     fit_split = halves(prestress.contact_force, cosine)
     end = options.preload_travel + options.final_travel
     levels = [np.argmin(np.abs(curve.travel - t)) for t in (options.preload_travel, end)]
