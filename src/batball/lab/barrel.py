@@ -57,9 +57,6 @@ from batball.solvers.static_contact import (
 from batball.specs.bat import BatSpec
 
 IN = 0.0254  # m
-#: Active-set hysteresis of the compression solves, m: 1 nm against 0.5-mm platen travel and
-#: penalty penetrations of about 10 nm; it stopped two gaps at 45 deg cycling on a coarse bat.
-GAP_HYSTERESIS = 1e-9
 
 
 @dataclass(frozen=True)
@@ -326,8 +323,8 @@ class CompressionCurve:
         insert_top, insert_bottom: sum of the insert-barrel contact forces on the top and bottom
             halves of the insert (seed Figure 13; nodes on the dividing plane count half to each),
             (n_levels,), N.
-        iterations: linear solves used.
-        factorisations: of those, the ones that factorised (the others ran CG on a kept factor).
+        iterations: triangular solves (pairs of forward and back substitutions) used.
+        factorisations: factorisations used.
     """
 
     orientation_deg: float
@@ -403,7 +400,9 @@ def compress_barrel(model: BarrelModel, prestress: Prestress, options: BarrelTes
                     insert_may_open: bool = False) -> CompressionCurve:  # fmt: skip
     """Platen travel levels from the pre-stressed state: one factorisation with the platen gaps
     condensed (:class:`batball.solvers.static_contact.CondensedContact`), an exact small contact
-    problem per level (module docs)."""
+    problem per level (module docs). The largest travel is solved first: the few fit gaps that
+    open (by nanometres, at the insert's ends) then open at once, costing one more
+    factorisation, and stay candidates for the smaller travels."""
     load, _ = load_axes(orientation_deg)
     n_points = model.mesh.n_points
     insert_cosine = insert_cosines(model, load)
@@ -411,17 +410,15 @@ def compress_barrel(model: BarrelModel, prestress: Prestress, options: BarrelTes
         model, prestress, options, orientation_deg, insert_may_open=insert_may_open)
     top_cosine = along(top, load, n_points)
     travels = options.travels(curve=curve)
-    force, upper, lower = [], [], []
-    for travel in travels:
-        moved, _ = platen_gaps(model, options, orientation_deg, travel, prestress.u)
+    force, upper, lower = np.zeros(travels.size), np.zeros(travels.size), np.zeros(travels.size)
+    for level in np.argsort(-travels):
+        moved, _ = platen_gaps(model, options, orientation_deg, travels[level], prestress.u)
         solution = condensed.solve([model.interference.initial, moved.initial, bottom.initial,
                                     springs.initial])  # fmt: skip
-        force.append(-(solution.forces[1] * top_cosine).sum())
-        split = halves(solution.forces[0], insert_cosine)
-        upper.append(split[0])
-        lower.append(split[1])
-    return CompressionCurve(orientation_deg, travels, np.array(force), np.array(upper),
-                            np.array(lower), condensed.solves, 1)  # fmt: skip
+        force[level] = -(solution.forces[1] * top_cosine).sum()
+        upper[level], lower[level] = halves(solution.forces[0], insert_cosine)
+    return CompressionCurve(orientation_deg, travels, force, upper, lower, condensed.solves,
+                            condensed.factorisations)  # fmt: skip
 
 
 @dataclass(frozen=True)

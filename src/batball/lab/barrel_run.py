@@ -159,7 +159,7 @@ def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any
         },  # fmt: skip
         "platen_diameter_in": options.platen_diameter / IN,
         "platen_from_cap_in": options.distance_from_cap / IN,
-        "linear_solves": int(sum(c.iterations for c in result.curves)),
+        "triangular_solves": int(sum(c.iterations for c in result.curves)),
         "factorisations": int(sum(c.factorisations for c in result.curves)),
         "n_shells": model.mesh.n_cells,
         "n_points": model.mesh.n_points,
