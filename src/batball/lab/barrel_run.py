@@ -189,10 +189,11 @@ def plot_curve(path: Path, columns: dict[str, np.ndarray], options: BarrelTestOp
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(columns["travel_in"], columns["force_lbf"], "o-", label="batball")
     travels = [options.preload_travel / IN, (options.preload_travel + options.final_travel) / IN]
-    for key, marker in (("experiment", "s"), ("seed_lsdyna", "^")):
+    for key, marker, label in (("experiment", "s", "experiment (seed Table 2)"),
+                               ("seed_lsdyna", "^", "seed LS-DYNA")):  # fmt: skip
         row = SEED_TABLE2[key]
         forces = [row["preload_lbf"], row["preload_lbf"] + row["final_load_lbf"]]
-        ax.plot(travels, forces, marker, label=f"seed {key.replace('_', ' ')}")
+        ax.plot(travels, forces, marker, label=label)
     ax.set_xlabel("platen travel (in)")
     ax.set_ylabel("platen force (lbf)")
     ax.set_title("Barrel compression, 6 in from the end cap")
