@@ -6,6 +6,7 @@ Variants, each a full pre-stress + compression at 0 deg with the curve:
   platen-3.86   the seed fixture's 3.86-in platens instead of its FE model's 3.3 in
   fit-0.0001    a ten times weaker fit (0.0001 in), the insert's gaps free to open
   fit-diametral the 0.001 in read as diametral (0.0005 in radial), gaps free to open
+  penalty-1e4   contact penalties ten times stiffer (platens and fit)
   bonded        the insert glued to the barrel (tangential ties at the two contact surfaces, with
                 the shell offsets): the stick limit of a frictional interface
 and the reading of the experiment's zero (5-15 lbf of seating load) on each curve.
@@ -129,10 +130,14 @@ def main() -> None:
     if not only or "base" in only:
         run_variant("base", base, options, False)
         run_variant("platen-3.86", base, replace(options, platen_diameter=3.86 * IN), False)
+    if not only or "penalty-1e4" in only:
+        stiff = build_barrel_model(spec, **mesh, penalty_factor=1e4)
+        run_variant("penalty-1e4", stiff, replace(options, penalty_factor=1e4), False)
     for name, fit in (("fit-0.0001", 0.0001), ("fit-diametral", 0.0005)):
         if not only or name in only:
             run_variant(name, build_barrel_model(with_fit(spec, fit), **mesh), options, True)
-    run_variant("bonded", bonded(base), options, True)
+    if not only or "bonded" in only:
+        run_variant("bonded", bonded(base), options, True)
 
 
 if __name__ == "__main__":
