@@ -8,7 +8,8 @@ Variants, each a full pre-stress + compression at 0 deg with the curve:
   fit-diametral the 0.001 in read as diametral (0.0005 in radial), gaps free to open
   penalty-1e4   contact penalties ten times stiffer (platens and fit)
   bonded        the insert glued to the barrel (tangential ties at the two contact surfaces, with
-                the shell offsets): the stick limit of a frictional interface
+                the shell offsets): the stick limit of a frictional interface; and the interface
+                shear it needs against the mu p a frictional fit could hold
 and the reading of the experiment's zero (5-15 lbf of seating load) on each curve.
 
 Run: ``NUMBA_NUM_THREADS=1 PYTHONPATH=src python benchmarks/barrel_diagnosis.py [around]
@@ -32,12 +33,16 @@ from batball.lab.barrel import (
     build_barrel_model,
     compress_barrel,
     compute_prestress,
+    condensed_compression,
+    contact_areas,
+    platen_gaps,
     wall_at,
 )
 from batball.specs import load_bat_spec
 from batball.specs.bat import BatSpec
 
 LBF = 4.4482216152605
+PSI = 6894.757293168
 
 
 def tangential_ties(model: BarrelModel) -> sp.csr_matrix:
@@ -82,6 +87,28 @@ def bonded(model: BarrelModel) -> BarrelModel:
     glue = PenaltyGaps(ties, np.zeros(ties.shape[0]), k, bilateral=True)
     return replace(model, stiffness=sp.csr_matrix(model.stiffness + glue.matrix.T
                                                   @ sp.diags(k) @ glue.matrix))  # fmt: skip
+
+
+def bonded_interface_shear(base: BarrelModel, options: BarrelTestOptions) -> None:
+    """How much interface shear the glued insert needs, against the friction a fit pressure p can
+    hold (mu p, mu 0.2-0.3): where it needs more, a real (frictional) interface slips."""
+    ties, glued = tangential_ties(base), bonded(base)
+    prestress = compute_prestress(glued)
+    condensed, (_, bottom, springs) = condensed_compression(glued, prestress, options, 0.0,
+                                                            insert_may_open=True)  # fmt: skip
+    areas, k = contact_areas(base), np.repeat(base.interference.stiffness, 2)
+    for travel_in in (0.005, 0.02, 0.07):
+        moved, _ = platen_gaps(glued, options, 0.0, travel_in * IN, prestress.u)
+        solution = condensed.solve([glued.interference.initial, moved.initial, bottom.initial,
+                                    springs.initial])  # fmt: skip
+        shear = (k * (ties @ (solution.u - prestress.u))).reshape(-1, 2) / areas[:, None] / PSI
+        shear_psi = np.hypot(shear[:, 0], shear[:, 1])
+        pressure_psi = solution.forces[0] / areas / PSI
+        print(f"{'':14s} bonded at {travel_in:.3f} in: shear added median "
+              f"{np.median(shear_psi):.0f} psi, 90th percentile {np.percentile(shear_psi, 90):.0f}"
+              f" psi; nodes needing more than 0.2 p / 0.3 p: "
+              f"{np.mean(shear_psi > 0.2 * pressure_psi):.0%} / "
+              f"{np.mean(shear_psi > 0.3 * pressure_psi):.0%}")
 
 
 def with_fit(spec: BatSpec, interference_in: float) -> BatSpec:
@@ -138,6 +165,7 @@ def main() -> None:
             run_variant(name, build_barrel_model(with_fit(spec, fit), **mesh), options, True)
     if not only or "bonded" in only:
         run_variant("bonded", bonded(base), options, True)
+        bonded_interface_shear(base, options)
 
 
 if __name__ == "__main__":
