@@ -18,9 +18,10 @@ The compression test: two rigid half-cylinder platens (3.3-in diameter as in the
 axes across the bat) centred ``distance_from_cap`` from the end cap; the bottom one fixed, the
 top one moved towards the bat; the outer wall's outer surface contacts them through penalty
 gaps. Supports as the seed's Figures 11-12: the barrel and insert rings under the platens held
-axially, and the four nodes on the load axis held sideways. Forces at each travel come from the
-same active-set solve with the interference gaps still in place, so the pre-stress is the
-initial state. Preload = F(0.02 in); final load = F(0.07 in) - F(0.02 in) (the seed's
+axially, and the four nodes on the load axis held sideways. Forces at each travel come from one
+penalty-contact problem with the interference gaps still in place (so the pre-stress is the
+initial state), factorised once per orientation with the platen gaps condensed
+(:class:`batball.solvers.static_contact.CondensedContact`). Preload = F(0.02 in); final load = F(0.07 in) - F(0.02 in) (the seed's
 "zeroed" force: its FE pair 155 / 386 lbf is in the linear ratio 2.5 that this definition gives).
 """
 
