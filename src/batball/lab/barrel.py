@@ -21,8 +21,9 @@ gaps. Supports as the seed's Figures 11-12: the barrel and insert rings under th
 axially, and the four nodes on the load axis held sideways. Forces at each travel come from one
 penalty-contact problem with the interference gaps still in place (so the pre-stress is the
 initial state), factorised once per orientation with the platen gaps condensed
-(:class:`batball.solvers.static_contact.CondensedContact`). Preload = F(0.02 in); final load = F(0.07 in) - F(0.02 in) (the seed's
-"zeroed" force: its FE pair 155 / 386 lbf is in the linear ratio 2.5 that this definition gives).
+(:class:`batball.solvers.static_contact.CondensedContact`). Preload = F(0.02 in); final load =
+F(0.07 in) - F(0.02 in) (the seed's "zeroed" force: its FE pair 155 / 386 lbf is in the linear
+ratio 2.5 that this definition gives; docs/barrel.md weighs the other readings).
 """
 
 from __future__ import annotations
