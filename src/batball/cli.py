@@ -202,6 +202,9 @@ def add_modal_parser(sub: Any) -> None:
     p = sub.add_parser("modal", help=help_text, description=help_text)
     add_bat_mesh_options(p)
     p.add_argument("--modes", type=int, default=30, help="modes to compute (default 30)")
+    p.add_argument("--insert", choices=("bonded", "contact"), default="bonded",
+                   help="insert tied to the barrel (default), or the pre-stressed fit's contact: "
+                        "radial springs, frictionless sliding (docs/barrel.md)")  # fmt: skip
     add_store_options(p)
     p.set_defaults(handler=run_modal_command)
 
@@ -269,6 +272,7 @@ def run_modal_command(args: argparse.Namespace) -> int:
     summary, _ = run_modal_test(
         spec, runs_dir=args.runs_dir, reuse=not args.no_reuse, n_modes=args.modes,
         circumferential=options["circumferential"], axial_size=options["axial_size"],
+        insert=args.insert,
     )  # fmt: skip
     if args.json:
         print(json.dumps(summary, indent=2))

@@ -18,10 +18,12 @@ The compression test: two rigid half-cylinder platens (3.3-in diameter as in the
 axes across the bat) centred ``distance_from_cap`` from the end cap; the bottom one fixed, the
 top one moved towards the bat; the outer wall's outer surface contacts them through penalty
 gaps. Supports as the seed's Figures 11-12: the barrel and insert rings under the platens held
-axially, and the four nodes on the load axis held sideways. Forces at each travel come from the
-same active-set solve with the interference gaps still in place, so the pre-stress is the
-initial state. Preload = F(0.02 in); final load = F(0.07 in) - F(0.02 in) (the seed's
-"zeroed" force: its FE pair 155 / 386 lbf is in the linear ratio 2.5 that this definition gives).
+axially, and the four nodes on the load axis held sideways. Forces at each travel come from one
+penalty-contact problem with the interference gaps still in place (so the pre-stress is the
+initial state), factorised once per orientation with the platen gaps condensed
+(:class:`batball.solvers.static_contact.CondensedContact`). Preload = F(0.02 in); final load =
+F(0.07 in) - F(0.02 in) (the seed's "zeroed" force: its FE pair 155 / 386 lbf is in the linear
+ratio 2.5 that this definition gives; docs/barrel.md weighs the other readings).
 """
 
 from __future__ import annotations
@@ -45,17 +47,18 @@ from batball.elements.shell_stiffness import (
     jacobians,
     membrane_bending_matrix,
 )
-from batball.errors import SimulationError, SpecError
+from batball.errors import SpecError
 from batball.lab.modal import bat_section
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL, make_bat_mesh
 from batball.mesh.shell import ShellMesh
-from batball.solvers.static_contact import FactorReuse, solve_static_contact
+from batball.solvers.static_contact import (
+    CondensedContact,
+    FactorReuse,
+    solve_static_contact,
+)
 from batball.specs.bat import BatSpec
 
 IN = 0.0254  # m
-#: Active-set hysteresis of the compression solves, m: 1 nm against 0.5-mm platen travel and
-#: penalty penetrations of about 10 nm; it stopped two gaps at 45 deg cycling on a coarse bat.
-GAP_HYSTERESIS = 1e-9
 
 
 @dataclass(frozen=True)
@@ -322,8 +325,8 @@ class CompressionCurve:
         insert_top, insert_bottom: sum of the insert-barrel contact forces on the top and bottom
             halves of the insert (seed Figure 13; nodes on the dividing plane count half to each),
             (n_levels,), N.
-        iterations: linear solves used.
-        factorisations: of those, the ones that factorised (the others ran CG on a kept factor).
+        iterations: triangular solves (pairs of forward and back substitutions) used.
+        factorisations: factorisations used.
     """
 
     orientation_deg: float
@@ -346,6 +349,15 @@ def along(gaps: PenaltyGaps, direction: np.ndarray, n_points: int) -> np.ndarray
     return gaps.matrix @ translation.ravel()
 
 
+def insert_cosines(model: BarrelModel, direction: np.ndarray) -> np.ndarray:
+    """Radial unit vector of each insert node dotted with ``direction``, (n_insert,).
+
+    (Not :func:`along` of the fit gaps: a gap between two bodies does not change under a common
+    translation, so that is zero for every gap.)"""
+    points = model.mesh.points[model.insert_nodes]
+    return (points[:, 1:] @ direction[1:]) / np.hypot(points[:, 1], points[:, 2])
+
+
 def halves(forces: np.ndarray, cosine: np.ndarray) -> tuple[float, float]:
     """Sums of ``forces`` on the top (cosine > 0) and bottom halves, the plane split evenly."""
     on_plane = np.abs(cosine) < 1e-9
@@ -354,48 +366,61 @@ def halves(forces: np.ndarray, cosine: np.ndarray) -> tuple[float, float]:
     return float(top), float(bottom)
 
 
-def compress_barrel(model: BarrelModel, prestress: Prestress, options: BarrelTestOptions,
-                    orientation_deg: float, *, curve: bool) -> CompressionCurve:  # fmt: skip
-    """Platen travel levels from the pre-stressed state, each an active-set solve warm-started
-    from the previous level's contacts (module docs)."""
+def condensed_compression(model: BarrelModel, prestress: Prestress, options: BarrelTestOptions,
+                          orientation_deg: float, *, insert_may_open: bool = False,
+                          ) -> tuple[CondensedContact, list[PenaltyGaps]]:  # fmt: skip
+    """The compression's contact problem, factorised once for every travel of one orientation.
+
+    Assumed closed (and checked at every level): the insert's fit gaps closed after the
+    pre-stress, the sideways springs, and the bottom platen's first-touch gap (it holds the bat
+    against rigid motion along the load). Condensed: the platen gaps within the largest travel of
+    the platens at first touch. With ``insert_may_open`` (a weak fit) the insert's gaps are
+    condensed too, but for those on the load axis nearest the platens (they hold the insert).
+    The platen gap sets returned are those at zero travel."""
     fixed, springs = compression_supports(model, options, orientation_deg)
+    top, bottom = platen_gaps(model, options, orientation_deg, 0.0, prestress.u)
+    reach = options.preload_travel + options.final_travel
+    anchor = bottom.initial <= bottom.initial.min() + 1e-12
+    insert_closed, insert_candidates = prestress.active, np.zeros(prestress.active.size, bool)
+    if insert_may_open:
+        insert_candidates = prestress.active.copy()
+        insert_closed = prestress.active & np.isin(model.insert_nodes, fixed // 6)
+        on_axis = np.abs(insert_cosines(model, load_axes(orientation_deg)[0])) > 1.0 - 1e-9
+        insert_closed &= on_axis
+    condensed = CondensedContact(
+        model.stiffness, [model.interference, top, bottom, springs], fixed_dofs=fixed,
+        closed=[insert_closed, np.zeros(top.n_gaps, bool), anchor, np.ones(4, bool)],
+        candidates=[insert_candidates, top.initial < reach, bottom.initial < reach,
+                    np.zeros(4, bool)],
+        where=f"barrel compression at {orientation_deg:g} deg",
+    )  # fmt: skip
+    return condensed, [top, bottom, springs]
+
+
+def compress_barrel(model: BarrelModel, prestress: Prestress, options: BarrelTestOptions,
+                    orientation_deg: float, *, curve: bool,
+                    insert_may_open: bool = False) -> CompressionCurve:  # fmt: skip
+    """Platen travel levels from the pre-stressed state: one factorisation with the platen gaps
+    condensed (:class:`batball.solvers.static_contact.CondensedContact`), an exact small contact
+    problem per level (module docs). The largest travel is solved first: the few fit gaps that
+    open (by nanometres, at the insert's ends) then open at once, costing one more
+    factorisation, and stay candidates for the smaller travels."""
     load, _ = load_axes(orientation_deg)
     n_points = model.mesh.n_points
-    insert_cosine = along(model.interference, load, n_points)
+    insert_cosine = insert_cosines(model, load)
+    condensed, (top, bottom, springs) = condensed_compression(
+        model, prestress, options, orientation_deg, insert_may_open=insert_may_open)
+    top_cosine = along(top, load, n_points)
     travels = options.travels(curve=curve)
-    force, top, bottom, iterations = [], [], [], 0
-    insert_active, platen_active = prestress.active, [np.zeros(0, dtype=bool)] * 2
-    reuse = FactorReuse()  # the levels differ by a few gaps: CG on one factorisation
-    for travel in travels:
-        platens = platen_gaps(model, options, orientation_deg, travel, prestress.u)
-        guess = [insert_active]
-        for gaps, before in zip(platens, platen_active, strict=True):
-            closed = gaps.initial <= 1e-9 * IN
-            guess.append(closed | before if before.size else closed)
-        table_level = min(abs(travel - t) for t in options.travels(curve=False)) < 1e-12
-        try:
-            solution = solve_static_contact(
-                model.stiffness, [model.interference, *platens, springs], fixed_dofs=fixed,
-                initial_active=[*guess, np.ones(4, dtype=bool)], hysteresis=GAP_HYSTERESIS,
-                reuse=reuse,
-                where=f"barrel compression at {orientation_deg:g} deg, {travel / IN:.3f} in",
-            )  # fmt: skip
-        except SimulationError:
-            if table_level:
-                raise
-            # A curve-only level whose contacts kept switching: recorded as NaN, not guessed.
-            force.append(np.nan)
-            top.append(np.nan)
-            bottom.append(np.nan)
-            continue
-        insert_active, platen_active = solution.active[0], solution.active[1:3]
-        iterations += solution.iterations
-        force.append(-(solution.forces[1] * along(platens[0], load, n_points)).sum())
-        split = halves(solution.forces[0], insert_cosine)
-        top.append(split[0])
-        bottom.append(split[1])
-    return CompressionCurve(orientation_deg, travels, np.array(force), np.array(top),
-                            np.array(bottom), iterations, reuse.factorisations)  # fmt: skip
+    force, upper, lower = np.zeros(travels.size), np.zeros(travels.size), np.zeros(travels.size)
+    for level in np.argsort(-travels):
+        moved, _ = platen_gaps(model, options, orientation_deg, travels[level], prestress.u)
+        solution = condensed.solve([model.interference.initial, moved.initial, bottom.initial,
+                                    springs.initial])  # fmt: skip
+        force[level] = -(solution.forces[1] * top_cosine).sum()
+        upper[level], lower[level] = halves(solution.forces[0], insert_cosine)
+    return CompressionCurve(orientation_deg, travels, force, upper, lower, condensed.solves,
+                            condensed.factorisations)  # fmt: skip
 
 
 @dataclass(frozen=True)

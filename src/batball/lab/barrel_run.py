@@ -33,11 +33,11 @@ from batball.lab.barrel import (
     BarrelResult,
     BarrelTestOptions,
     Prestress,
-    along,
     build_barrel_model,
     compute_prestress,
     contact_areas,
     halves,
+    insert_cosines,
     load_axes,
     membrane_stress,
     run_barrel_compression,
@@ -121,7 +121,7 @@ def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any
     barrel_cells = np.concatenate([model.mesh.cell_sets[p.name] for p in model.spec.parts
                                    if p.name.startswith("barrel")])  # fmt: skip
     curve = result.curves[0]
-    cosine = along(model.interference, load_axes(curve.orientation_deg)[0], model.mesh.n_points)
+    cosine = insert_cosines(model, load_axes(curve.orientation_deg)[0])
     fit_split = halves(prestress.contact_force, cosine)
     end = options.preload_travel + options.final_travel
     levels = [np.argmin(np.abs(curve.travel - t)) for t in (options.preload_travel, end)]
@@ -159,7 +159,7 @@ def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any
         },  # fmt: skip
         "platen_diameter_in": options.platen_diameter / IN,
         "platen_from_cap_in": options.distance_from_cap / IN,
-        "linear_solves": int(sum(c.iterations for c in result.curves)),
+        "triangular_solves": int(sum(c.iterations for c in result.curves)),
         "factorisations": int(sum(c.factorisations for c in result.curves)),
         "n_shells": model.mesh.n_cells,
         "n_points": model.mesh.n_points,
@@ -189,10 +189,11 @@ def plot_curve(path: Path, columns: dict[str, np.ndarray], options: BarrelTestOp
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(columns["travel_in"], columns["force_lbf"], "o-", label="batball")
     travels = [options.preload_travel / IN, (options.preload_travel + options.final_travel) / IN]
-    for key, marker in (("experiment", "s"), ("seed_lsdyna", "^")):
+    for key, marker, label in (("experiment", "s", "experiment (seed Table 2)"),
+                               ("seed_lsdyna", "^", "seed LS-DYNA")):  # fmt: skip
         row = SEED_TABLE2[key]
         forces = [row["preload_lbf"], row["preload_lbf"] + row["final_load_lbf"]]
-        ax.plot(travels, forces, marker, label=f"seed {key.replace('_', ' ')}")
+        ax.plot(travels, forces, marker, label=label)
     ax.set_xlabel("platen travel (in)")
     ax.set_ylabel("platen force (lbf)")
     ax.set_title("Barrel compression, 6 in from the end cap")

@@ -3,12 +3,14 @@
 The bat's shells (MITC4, :mod:`batball.elements.shell_stiffness`) with each part's laminate and
 lumped mass; the 30 lowest modes by shift-invert Lanczos (:mod:`batball.solvers.modal`).
 
-**The insert is bonded to the barrel.** The interference-fit contact and its pre-stress do not
-exist yet, so each insert node is tied rigidly to the barrel wall: its displacement is the barrel's
-(linearly interpolated between the two nearest barrel rings at the same angle) plus the barrel
-rotation times the radial offset between the two mid-surfaces, and its rotation the barrel's.
-This is the "bonded" bound of physics.md section 7.3: stiffer in hoop than the seed's fitted
-double wall.
+**The insert**, two models (``insert=``). ``"bonded"`` (the default): each insert node is tied
+rigidly to the barrel wall: its displacement is the barrel's (linearly interpolated between the
+two nearest barrel rings at the same angle) plus the barrel rotation times the radial offset
+between the two mid-surfaces, and its rotation the barrel's. This is the "bonded" bound of
+physics.md section 7.3: stiffer in hoop than the seed's fitted double wall. ``"contact"``: the
+pre-stressed interference fit of :mod:`batball.lab.barrel` linearised: every closed fit gap is a
+radial penalty spring and the walls slide freely (frictionless), the other bound; the insert's
+free axial slide and spin are then two more zero-frequency modes.
 
 Mode labels come from the shapes of the outer wall (the nodes sit on rings of ``circumferential``
 nodes at angles phi_j = 2 pi j / circumferential):
@@ -24,7 +26,8 @@ nodes at angles phi_j = 2 pi j / circumferential):
   stiffness and geometry are not in the seed). A hoop mode must also have more of that ovalling
   on the barrel rings than on the full-diameter rings beyond them, so the end-ring mode (whose
   ovalling spills onto the last barrel rings) is labelled ``other`` with a margin.
-* ``rigid`` for the six near-zero modes; ``other`` for the rest (torsion, axial, n >= 3 shell).
+* ``rigid`` for the six near-zero modes (eight with the contact insert); ``other`` for the rest
+  (torsion, axial, n >= 3 shell).
 
 Degenerate pairs (the same frequency in two planes) count once: "first" and "second" bending and
 hoop are the first two distinct frequencies (more than 1 % apart), as the seed reports them.
@@ -43,10 +46,12 @@ from batball.elements.shell_stiffness import (
     assemble_shell_stiffness,
     shell_section,
 )
+from batball.errors import SpecError
 from batball.lab.props import bat_areal_mass
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL, make_bat_mesh
 from batball.mesh.shell import ShellMesh
-from batball.solvers.modal import ModalResult, free_free_modes
+from batball.solvers.modal import N_RIGID_BODY_MODES, ModalResult, free_free_modes
+from batball.solvers.static_contact import penalty_system
 from batball.specs.bat import BatSpec
 
 BENDING_SHARE = 0.5
@@ -198,31 +203,69 @@ def label_modes(
     return tuple(str(label) for label in labels)
 
 
+#: How the insert meets the barrel in the modal model (module docs).
+INSERT_MODELS = ("bonded", "contact")
+
+
+def insert_contact_stiffness(spec: BatSpec, circumferential: int,
+                             axial_size: float) -> sp.csr_matrix:  # fmt: skip
+    """K plus the closed interference-fit gaps of the pre-stressed bat as radial springs, SI.
+
+    The fit (:func:`batball.lab.barrel.compute_prestress`) closes every insert node's gap on the
+    default bat; linearised about that state, each closed frictionless gap is a radial penalty
+    spring k G^T G: the walls share radial motion and slide freely along the axis and around.
+    The pre-stress's geometric stiffness is left out (hoop stresses of about 1-1.6 ksi against
+    moduli of 2-3 Msi)."""
+    from batball.lab.barrel import build_barrel_model, compute_prestress
+
+    model = build_barrel_model(spec, circumferential=circumferential, axial_size=axial_size)
+    active = compute_prestress(model).active
+    stiffness, _ = penalty_system(model.stiffness, [model.interference], [active])
+    return stiffness
+
+
 def bat_modes(
     spec: BatSpec,
     *,
     circumferential: int = DEFAULT_CIRCUMFERENTIAL,
     axial_size: float = DEFAULT_AXIAL_SIZE,
     n_modes: int = 30,
+    insert: str = "bonded",
 ) -> BatModes:
-    """Free-free modes of a bat (insert bonded), labelled.
+    """Free-free modes of a bat, labelled.
 
     Args:
         spec: the bat.
         circumferential: shells around the circumference.
         axial_size: largest shell length along the bat, m.
         n_modes: modes to compute, the six rigid-body modes included.
+        insert: ``"bonded"`` (tied rigidly to the barrel) or ``"contact"`` (the pre-stressed
+            interference fit: radial springs of the closed gaps, frictionless sliding; the
+            insert's free axial slide and spin are two more zero modes, labelled rigid).
+
+    Raises:
+        SpecError: an unknown ``insert``.
     """
+    if insert not in INSERT_MODELS:
+        raise SpecError("insert", insert, f"one of {', '.join(INSERT_MODELS)}")
     mesh = make_bat_mesh(spec, circumferential=circumferential, axial_size=axial_size)
-    return shell_modes(
-        mesh, bat_section(spec, mesh), circumferential=circumferential, n_modes=n_modes
-    )
+    section = bat_section(spec, mesh)
+    contact = None
+    if "insert" in mesh.point_sets and insert == "contact":
+        contact = insert_contact_stiffness(spec, circumferential, axial_size)
+    return shell_modes(mesh, section, circumferential=circumferential, n_modes=n_modes,
+                       contact_stiffness=contact)  # fmt: skip
 
 
 def shell_modes(
-    mesh: ShellMesh, section: ShellSection, *, circumferential: int, n_modes: int = 30
+    mesh: ShellMesh,
+    section: ShellSection,
+    *,
+    circumferential: int,
+    n_modes: int = 30,
+    contact_stiffness: sp.spmatrix | None = None,
 ) -> BatModes:
-    """Free-free modes of a ring-numbered bat mesh with its section (insert bonded), labelled:
+    """Free-free modes of a ring-numbered bat mesh with its section, labelled:
     :func:`bat_modes` once the mesh and section exist (also the route of a keyword deck read
     by :mod:`batball.io.keyword_bat_model`).
 
@@ -233,15 +276,23 @@ def shell_modes(
         section: per-cell section constants.
         circumferential: nodes around each ring.
         n_modes: modes to compute, the six rigid-body modes included.
+        contact_stiffness: the whole stiffness with the insert held by the pre-stressed fit's
+            contact (:func:`insert_contact_stiffness`; two more zero modes); None ties the insert
+            to the barrel (bonded).
     """
-    stiffness = assemble_shell_stiffness(mesh, section)
     mass = assemble_shell_mass(mesh, section)
-    if "insert" in mesh.point_sets:
-        tie = insert_tie(mesh, circumferential)
-        stiffness, mass = tie.T @ stiffness @ tie, tie.T @ mass @ tie
+    tie = sp.identity(6 * mesh.n_points, format="csr")
+    n_zero = N_RIGID_BODY_MODES
+    if contact_stiffness is not None:
+        stiffness = contact_stiffness
+        n_zero += 2
     else:
-        tie = sp.identity(6 * mesh.n_points, format="csr")
-    result = free_free_modes(stiffness, mass, n_modes=n_modes, shift_hz=10.0)
+        stiffness = assemble_shell_stiffness(mesh, section)
+        if "insert" in mesh.point_sets:
+            tie = insert_tie(mesh, circumferential)
+            stiffness, mass = tie.T @ stiffness @ tie, tie.T @ mass @ tie
+    result = free_free_modes(stiffness, mass, n_modes=n_modes, shift_hz=10.0,
+                             n_zero_modes=n_zero)  # fmt: skip
     shapes = np.asarray(tie @ result.shapes).reshape(mesh.n_points, 6, n_modes)
     bending, hoop, hoop_beyond = shape_shares(mesh, shapes, circumferential)
     labels = label_modes(result, bending, hoop, hoop_beyond)

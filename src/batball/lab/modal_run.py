@@ -26,13 +26,21 @@ SEED_TABLE3 = {
 }
 
 
-def summarise_modes(spec: BatSpec, modes: BatModes, wall_seconds: float) -> dict[str, Any]:
+#: The summary's description of each insert model.
+INSERT_DESCRIPTIONS = {
+    "bonded": "bonded to the barrel (tied rigidly)",
+    "contact": "pre-stressed interference-fit contact: radial springs, frictionless sliding",
+}
+
+
+def summarise_modes(spec: BatSpec, modes: BatModes, wall_seconds: float, *,
+                    insert: str = "bonded") -> dict[str, Any]:  # fmt: skip
     """The summary a person reads: each number's unit is in its key."""
     bending, hoop = modes.first("bending"), modes.first("hoop")
     return {
         "test": "modal",
         "bat": spec.name,
-        "insert": "bonded to the barrel (interference-fit contact not modelled)",
+        "insert": INSERT_DESCRIPTIONS[insert],
         "bending_hz": [float(modes.frequencies[i]) for i in bending],
         "hoop_hz": [float(modes.frequencies[i]) for i in hoop],
         "seed_table3": SEED_TABLE3,
@@ -92,14 +100,18 @@ def run_modal_test(
     axial_size: float = DEFAULT_AXIAL_SIZE,
     n_modes: int = 30,
     reuse: bool = True,
+    insert: str = "bonded",
 ) -> tuple[dict[str, Any], Path]:
-    """Compute (or reuse) a bat's free-free modes; returns the summary and the run folder."""
+    """Compute (or reuse) a bat's free-free modes; returns the summary and the run folder.
+    ``insert``: "bonded" or "contact" (:func:`batball.lab.modal.bat_modes`)."""
     inputs = {
         "bat": bat_spec_to_toml_dict(spec),
         "mesh": {"circumferential": circumferential, "axial_size_m": axial_size},
         "n_modes": n_modes,
         "batball": __version__,
     }
+    if insert != "bonded":  # the bonded runs keep their store keys
+        inputs["insert"] = insert
     folder = run_folder(runs_dir, "modal", inputs)
 
     def write(modes: Any, summary: dict[str, Any]) -> None:
@@ -110,6 +122,6 @@ def run_modal_test(
     return run_or_reuse(
         folder, reuse,
         lambda: bat_modes(spec, circumferential=circumferential, axial_size=axial_size,
-                          n_modes=n_modes),
-        lambda modes, seconds: summarise_modes(spec, modes, seconds), write,
+                          n_modes=n_modes, insert=insert),
+        lambda modes, seconds: summarise_modes(spec, modes, seconds, insert=insert), write,
     )  # fmt: skip

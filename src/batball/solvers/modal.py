@@ -50,6 +50,7 @@ def free_free_modes(
     n_modes: int = 30,
     shift_hz: float = 1.0,
     rigid_fraction: float = 0.01,
+    n_zero_modes: int = N_RIGID_BODY_MODES,
 ) -> ModalResult:
     """The lowest ``n_modes`` modes of an unsupported structure.
 
@@ -60,7 +61,10 @@ def free_free_modes(
         shift_hz: |sigma| = (2 pi shift_hz)^2 with sigma < 0; a fraction of the first flexible
             frequency is a good value.
         rigid_fraction: a mode is rigid when |f| < rigid_fraction times the lowest frequency
-            above the sixth mode (the first flexible one when six rigid modes are present).
+            above the first ``n_zero_modes`` (the first flexible one when that many zero modes
+            are present).
+        n_zero_modes: zero-frequency modes expected: six rigid-body modes, plus any mechanism
+            the model has on purpose (a frictionless insert sliding and spinning in its barrel).
 
     Returns:
         The modes, ascending.
@@ -72,6 +76,6 @@ def free_free_modes(
     order = np.argsort(values)
     values, vectors = values[order], vectors[:, order]
     frequencies = np.sign(values) * np.sqrt(np.abs(values)) / (2.0 * np.pi)
-    reference = abs(frequencies[min(N_RIGID_BODY_MODES, n_modes - 1)])
+    reference = abs(frequencies[min(n_zero_modes, n_modes - 1)])
     rigid = np.abs(frequencies) < rigid_fraction * reference
     return ModalResult(frequencies=frequencies, shapes=vectors, rigid=rigid)

@@ -16,12 +16,13 @@ always active.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from scipy.optimize import nnls
 
 from batball.contact.shell_contact import PenaltyGaps
 from batball.errors import SimulationError
@@ -204,3 +205,160 @@ def solve_static_contact(
         active = updated
     raise SimulationError(f"{where}: the contact active set did not settle in {max_iterations} "
                           f"solves ({switching} gaps still switching)")  # fmt: skip
+
+
+def solve_small_lcp(matrix: np.ndarray, offset: np.ndarray, where: str) -> np.ndarray:
+    """lambda >= 0 with w = offset + matrix lambda >= 0 and w . lambda = 0, matrix SPD (n, n).
+
+    The LCP is the optimality condition of min lambda^T M lambda / 2 + q^T lambda over
+    lambda >= 0; with M = L L^T that is the non-negative least-squares problem
+    min |L^T lambda + L^-1 q| (Lawson and Hanson's active-set NNLS, scipy.optimize.nnls), solved
+    after scaling M to a unit diagonal. Exact in finitely many steps: no cycling.
+    """
+    if offset.size == 0:
+        return np.zeros(0)
+    scale = 1.0 / np.sqrt(np.diag(matrix))
+    scaled = matrix * np.outer(scale, scale)
+    try:
+        lower = np.linalg.cholesky(scaled)
+    except np.linalg.LinAlgError as exc:
+        raise SimulationError(f"{where}: the condensed contact compliance is not positive "
+                              f"definite ({exc})") from exc  # fmt: skip
+    target = -np.linalg.solve(lower, scale * offset)
+    try:
+        mu, _ = nnls(lower.T, target, maxiter=50 * offset.size)
+    except RuntimeError as exc:
+        raise SimulationError(f"{where}: the condensed contact problem did not converge "
+                              f"({exc})") from exc  # fmt: skip
+    return np.asarray(scale * mu)
+
+
+class CondensedContact:
+    """Penalty contact statics with a few unilateral gaps condensed onto a kept factorisation.
+
+    For problems where most gaps have a known state (the barrel test: the insert's fit gaps stay
+    closed, the platen gaps far from the patch stay open), K_s = K + sum G^T k G over the gaps
+    assumed ``closed`` is factorised once. The ``candidate`` gaps (those that may switch) are
+    condensed: with q = g0_c + G_c K_s^-1 r and the compliance C = G_c K_s^-1 G_c^T, their
+    compressive forces solve the linear complementarity problem
+
+        w = q + (C + diag(1/k)) lambda >= 0,  lambda >= 0,  w . lambda = 0
+
+    (closed: g = -lambda / k; open: lambda = 0, g >= 0), a small dense SPD problem solved
+    exactly (:func:`solve_small_lcp`). Each solve then checks the assumptions on the full
+    solution: a gap assumed open that penetrates is added to the candidates (C extended); a gap
+    assumed closed that opens is made a candidate and K_s factorised afresh. The result is the
+    frictionless penalty solution :func:`solve_static_contact` iterates to, usually in one
+    factorisation and n_candidates + 2 triangular solves, for any number of loads or offsets.
+    """
+
+    def __init__(self, stiffness: sp.spmatrix, gap_sets: Sequence[PenaltyGaps], *,
+                 fixed_dofs: np.ndarray, closed: Sequence[np.ndarray],
+                 candidates: Sequence[np.ndarray], where: str) -> None:  # fmt: skip
+        self.gap_sets = list(gap_sets)
+        self.where = where
+        self.closed = [np.asarray(c, dtype=bool) | s.bilateral
+                       for c, s in zip(closed, gap_sets, strict=True)]  # fmt: skip
+        self.candidates = [np.asarray(c, dtype=bool) & ~a
+                           for c, a in zip(candidates, self.closed, strict=True)]  # fmt: skip
+        self.n_dofs = int(stiffness.shape[0])
+        self.free = np.setdiff1d(np.arange(stiffness.shape[0]),
+                                 np.asarray(fixed_dofs, dtype=np.int64))  # fmt: skip
+        self.stiffness = stiffness
+        self.factorisations = self.solves = 0
+        self._factorise()
+
+    def _factorise(self) -> None:
+        """Factorise K_s with the gaps assumed closed, then condense the candidates."""
+        matrix, _ = penalty_system(self.stiffness, self.gap_sets, self.closed)
+        self.factor = factorise(matrix[self.free][:, self.free].tocsc(), self.where)
+        self.factorisations += 1
+        self._condense()
+
+    def _candidate_rows(self) -> tuple[sp.csr_matrix, np.ndarray]:
+        """G_c restricted to the free dofs, (n_c, n_free), and the candidates' penalties."""
+        rows = sp.vstack([s.matrix[c] for s, c in zip(self.gap_sets, self.candidates,
+                                                       strict=True)]).tocsc()  # fmt: skip
+        penalties = np.concatenate([s.stiffness[c] for s, c in zip(self.gap_sets,
+                                                                  self.candidates, strict=True)])
+        return sp.csr_matrix(rows[:, self.free]), penalties
+
+    def _condense(self, chunk: int = 32) -> None:
+        """C = G_c K_s^-1 G_c^T, a block of right-hand sides at a time (bounded memory)."""
+        rows, _ = self._candidate_rows()
+        n_c = rows.shape[0]
+        self.compliance = np.zeros((n_c, n_c))
+        for start in range(0, n_c, chunk):
+            block = rows[start:start + chunk].T.toarray()
+            self.compliance[:, start:start + chunk] = rows @ self.factor.solve(block)
+            self.solves += block.shape[1]
+        self.compliance = 0.5 * (self.compliance + self.compliance.T)
+
+    def _on_all_dofs(self, free_values: np.ndarray) -> np.ndarray:
+        full = np.zeros(self.n_dofs)
+        full[self.free] = free_values
+        return full
+
+    def _extend(self, sets: Sequence[PenaltyGaps], u: np.ndarray, tolerance: float) -> bool:
+        """Check the assumed states on ``u``; True if any was wrong. A gap assumed open that
+        penetrates becomes a candidate (C is extended); a unilateral gap assumed closed that opens
+        becomes a candidate too, which changes K_s (factorised afresh)."""
+        added = refactor = False
+        for k, (gaps, closed) in enumerate(zip(sets, self.closed, strict=True)):
+            g = gaps.gaps(u)
+            opened = closed & (g > tolerance) & (not gaps.bilateral)
+            missed = ~closed & ~self.candidates[k] & (g < -tolerance)
+            if opened.any():
+                self.closed[k] = closed & ~opened
+                refactor = True
+            if opened.any() or missed.any():
+                self.candidates[k] = self.candidates[k] | opened | missed
+                added = True
+        if refactor:
+            self._factorise()
+        elif added:
+            self._condense()
+        return added
+
+    def _solve(self, rhs: np.ndarray) -> np.ndarray:
+        """K_s^-1 rhs with zeros on the fixed dofs, (n_dofs,)."""
+        u = np.zeros(rhs.size)
+        u[self.free] = self.factor.solve(rhs[self.free])
+        self.solves += 1
+        if not np.all(np.isfinite(u)):
+            raise SimulationError(f"{self.where}: the linear solve returned non-finite values")
+        return u
+
+    def solve(self, initial: Sequence[np.ndarray], *, loads: np.ndarray | None = None,
+              tolerance: float = 1e-12, max_rounds: int = 5) -> StaticContactSolution:  # fmt: skip
+        """The contact state for the gap offsets ``initial`` (g0 of each set, m) and ``loads``.
+
+        Args:
+            initial: g0 of each gap set, list of (n_gaps,), m (the sets' G and k are kept).
+            loads: external nodal loads, (n_dofs,), N and N m; zero if None.
+            tolerance: m; a gap assumed open may penetrate this much, one assumed closed may
+                open this much, before the assumption counts as broken.
+            max_rounds: corrections of the assumed states allowed.
+        """
+        sets = [replace(s, initial=np.asarray(g0, dtype=float))
+                for s, g0 in zip(self.gap_sets, initial, strict=True)]  # fmt: skip
+        for _ in range(max_rounds + 1):
+            rhs = np.zeros(self.n_dofs) if loads is None else np.array(loads, dtype=float)
+            for gaps, closed in zip(sets, self.closed, strict=True):
+                rhs -= gaps.matrix.T @ (np.where(closed, gaps.stiffness, 0.0) * gaps.initial)
+            u = self._solve(rhs)
+            rows, penalties = self._candidate_rows()
+            start = np.concatenate([g.initial[c] for g, c in zip(sets, self.candidates,
+                                                                 strict=True)])  # fmt: skip
+            offset = start + rows @ u[self.free]
+            lam = solve_small_lcp(self.compliance + np.diag(1.0 / penalties), offset, self.where)
+            # The candidates' contact forces G_c^T lambda on the free dofs.
+            u = self._solve(rhs + self._on_all_dofs(rows.T @ lam))
+            if not self._extend(sets, u, tolerance):
+                values = [g.gaps(u) for g in sets]
+                active = [a | (c & (gap < 0.0))
+                          for a, c, gap in zip(self.closed, self.candidates, values, strict=True)]
+                forces = [g.forces(u) for g in sets]
+                return StaticContactSolution(u, values, forces, active, self.solves)
+        raise SimulationError(f"{self.where}: the assumed contact states were corrected "
+                              f"{max_rounds} times and are still wrong")
