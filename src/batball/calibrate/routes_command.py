@@ -6,6 +6,7 @@ Import-light at module level (the CLI builds its parser from here).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 from pathlib import Path
 from typing import Any
@@ -83,6 +84,43 @@ def add_synthetic_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--divisions", type=int, default=DEFAULT_DIVISIONS, help="ball mesh (8)")
     p.add_argument("--speeds", action="append", help="BBS inbound speed; repeat (95, 110 mph)")
     p.add_argument("--end-time", default="2 ms", help="longest BBS run (2 ms)")
+
+
+def add_noise_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``batball synthetic-noise``."""
+    from batball.calibrate.noise import NoiseLevels
+
+    d = NoiseLevels()
+    p.add_argument(
+        "--source",
+        type=Path,
+        default=Path("benchmarks/routes/synthetic"),
+        help="folder of exact route data (batball synthetic-data's --out)",
+    )
+    p.add_argument("--out", type=Path, required=True, help="folder for seed-<N>/ copies")
+    p.add_argument("--seeds", type=int, nargs="+", default=[1], help="one noisy copy per seed")
+    p.add_argument("--restitution-sd", type=float, default=d.restitution, help="COR/CCOR, abs.")
+    p.add_argument("--force-sd", type=float, default=d.force, help="DS, peak forces, relative")
+    p.add_argument("--contact-time-sd", type=float, default=d.contact_time, help="relative")
+    p.add_argument("--dma-sd", type=float, default=d.dma, help="DMA moduli, relative")
+
+
+def run_noise_command(args: argparse.Namespace) -> int:
+    """``batball synthetic-noise``: seeded noisy copies of a synthetic route data set."""
+    from batball.calibrate.noise import NoiseLevels, write_noisy_data
+
+    levels = NoiseLevels(
+        restitution=args.restitution_sd,
+        force=args.force_sd,
+        contact_time=args.contact_time_sd,
+        dma=args.dma_sd,
+    )
+    written = {}
+    for seed in args.seeds:
+        paths = write_noisy_data(args.source, args.out / f"seed-{seed}", seed=seed, levels=levels)
+        written[str(seed)] = {k: v.as_posix() for k, v in paths.items()}
+    print(json.dumps({"levels": dataclasses.asdict(levels), "files": written}, indent=2))
+    return 0
 
 
 def _speeds_mph(args: argparse.Namespace) -> list[float]:
@@ -243,8 +281,6 @@ def describe_comparison(r: dict[str, Any]) -> str:
 
 def run_synthetic_command(args: argparse.Namespace) -> int:
     """``batball synthetic-data``: measure the true ball and write the routes' data files."""
-    import dataclasses
-
     from batball.calibrate.routes import measure_synthetic
     from batball.lab.bbs_run import run_bbs_test
     from batball.specs import load_ball_spec, load_bat_spec
