@@ -54,7 +54,12 @@ def add_compare_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--prony-terms", type=int, default=3, help="Prony terms of the DMA fit (3)")
     p.add_argument("--speeds", action="append", help="BBS inbound speed; repeat (95, 110 mph)")
-    p.add_argument("--measured-bbs", type=Path, help="TOML of [[bbs]] speed, value (measured)")
+    p.add_argument(
+        "--measured-bbs",
+        type=Path,
+        help="TOML of [[bbs]] speed, value (measured); 'none': no measured BBS (else, for "
+        "type1/type2, the seed's Table 9)",
+    )
     p.add_argument("--truth", help="a known true ball (synthetic data): its BBS and G(t) too")
     p.add_argument(
         "--divisions",
@@ -66,6 +71,12 @@ def add_compare_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-evaluations", type=int, default=15, help="least-squares budget (15)")
     p.add_argument("--workers", type=int, help="process pool size (default: CPU cores)")
     p.add_argument("--end-time", default="2 ms", help="longest BBS run (2 ms)")
+    p.add_argument(
+        "--time-step-scale",
+        type=float,
+        default=0.9,
+        help="BBS runs' time-step scale (0.9; a foam ball on the bat needs less, 0.6)",
+    )
 
 
 def add_synthetic_arguments(p: argparse.ArgumentParser) -> None:
@@ -83,7 +94,19 @@ def add_synthetic_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--divisions", type=int, default=DEFAULT_DIVISIONS, help="ball mesh (8)")
     p.add_argument("--speeds", action="append", help="BBS inbound speed; repeat (95, 110 mph)")
+    p.add_argument(
+        "--no-bbs",
+        action="store_true",
+        help="skip the truth's BBS runs (bbs.toml then says so; e.g. a foam truth, which the "
+        "coupled BBS run cannot yet carry)",
+    )
     p.add_argument("--end-time", default="2 ms", help="longest BBS run (2 ms)")
+    p.add_argument(
+        "--time-step-scale",
+        type=float,
+        default=0.9,
+        help="BBS runs' time-step scale (0.9; a foam ball on the bat needs less, 0.6)",
+    )
 
 
 def add_noise_arguments(p: argparse.ArgumentParser) -> None:
@@ -138,8 +161,11 @@ def _bbs_setup(args: argparse.Namespace) -> Any:
 
     if not 2 <= args.divisions <= 40:
         raise SpecError("divisions", args.divisions, "an integer 2..40")
+    if not 0.0 < args.time_step_scale <= 1.0:
+        raise SpecError("time-step-scale", args.time_step_scale, "0 < scale <= 1")
     mesh = bat_mesh_options(args)
     return BbsSetup(
+        time_step_scale=args.time_step_scale,
         ball_divisions=args.divisions,
         circumferential=mesh["circumferential"],
         axial_size=mesh["axial_size"],
@@ -202,6 +228,8 @@ def measured_bbs(args: argparse.Namespace, ball_name: str, speeds: list[float]) 
     from batball.specs.seed import load_seed_tables
 
     if args.measured_bbs is not None:
+        if str(args.measured_bbs) == "none":
+            return {}
         return load_measured_bbs(args.measured_bbs)
     if ball_name not in EMBEDDED_BALLS:
         return {}
@@ -288,12 +316,14 @@ def run_synthetic_command(args: argparse.Namespace) -> int:
     truth = load_ball_spec(args.truth)
     setup, bat = _bbs_setup(args), load_bat_spec(args.bat)
     bbs = {}
-    for mph in _speeds_mph(args):
+    for mph in [] if args.no_bbs else _speeds_mph(args):
         summary, _ = run_bbs_test(
             bat, truth, dataclasses.replace(setup, speed=mph * 0.44704), runs_dir=args.runs_dir
         )
         bbs[mph] = float(summary["bbs_mph"])
     mesh = f"{bat.name}, {args.circumferential} shells round, axial size {args.axial_size}"
+    if args.no_bbs:
+        mesh += "; not measured (--no-bbs)"
     paths = measure_synthetic(
         truth, args.out, divisions=args.divisions, bbs_runs=bbs, bbs_mesh=mesh
     )
