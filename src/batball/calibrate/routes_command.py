@@ -17,6 +17,14 @@ from batball.errors import SpecError
 DEFAULT_DIVISIONS = 8
 
 
+def add_bbs_run_arguments(p: argparse.ArgumentParser) -> None:
+    """The BBS runs' end time and time-step scale (both commands)."""
+    p.add_argument("--end-time", default="2 ms", help="longest BBS run (2 ms)")
+    p.add_argument(
+        "--time-step-scale", type=float, default=0.9, help="BBS runs' time-step scale (0.9)"
+    )
+
+
 def add_compare_arguments(p: argparse.ArgumentParser) -> None:
     """The options of ``batball compare-calibrations`` (the bat mesh options come from cli)."""
     p.add_argument(
@@ -70,13 +78,7 @@ def add_compare_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--global-points", type=int, default=8, help="Latin-hypercube points (8)")
     p.add_argument("--max-evaluations", type=int, default=15, help="least-squares budget (15)")
     p.add_argument("--workers", type=int, help="process pool size (default: CPU cores)")
-    p.add_argument("--end-time", default="2 ms", help="longest BBS run (2 ms)")
-    p.add_argument(
-        "--time-step-scale",
-        type=float,
-        default=0.9,
-        help="BBS runs' time-step scale (0.9; a foam ball on the bat needs less, 0.6)",
-    )
+    add_bbs_run_arguments(p)
 
 
 def add_synthetic_arguments(p: argparse.ArgumentParser) -> None:
@@ -100,13 +102,7 @@ def add_synthetic_arguments(p: argparse.ArgumentParser) -> None:
         help="skip the truth's BBS runs (bbs.toml then says so; e.g. a foam truth, which the "
         "coupled BBS run cannot yet carry)",
     )
-    p.add_argument("--end-time", default="2 ms", help="longest BBS run (2 ms)")
-    p.add_argument(
-        "--time-step-scale",
-        type=float,
-        default=0.9,
-        help="BBS runs' time-step scale (0.9; a foam ball on the bat needs less, 0.6)",
-    )
+    add_bbs_run_arguments(p)
 
 
 def add_noise_arguments(p: argparse.ArgumentParser) -> None:
