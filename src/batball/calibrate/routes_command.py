@@ -86,7 +86,7 @@ def add_synthetic_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--truth",
         default="benchmarks/routes/synthetic/true-ball.toml",
-        help="the true ball (a Prony ball TOML)",
+        help="the true ball (a Prony or MAT_057/MAT_083 foam ball TOML)",
     )
     p.add_argument(
         "--out",
