@@ -763,11 +763,13 @@ def describe_bbs(s: dict[str, Any]) -> str:
 
 
 def add_routes_parsers(sub: Any) -> None:
-    """``batball compare-calibrations`` and ``batball synthetic-data``."""
+    """``batball compare-calibrations``, ``synthetic-data`` and ``synthetic-noise``."""
     from batball.calibrate.routes_command import (
         add_compare_arguments,
+        add_noise_arguments,
         add_synthetic_arguments,
         run_compare_command,
+        run_noise_command,
         run_synthetic_command,
     )
 
@@ -783,6 +785,10 @@ def add_routes_parsers(sub: Any) -> None:
     add_synthetic_arguments(p)
     add_store_options(p)
     p.set_defaults(handler=run_synthetic_command)
+    help_text = "seeded noisy copies of a synthetic route data set (assumed lab repeatability)"
+    p = sub.add_parser("synthetic-noise", help=help_text, description=help_text)
+    add_noise_arguments(p)
+    p.set_defaults(handler=run_noise_command)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -327,11 +327,11 @@ __all__ = [
 
 def write_dma_csv(path: str | Path, data: DmaData, *, unit: str = "psi") -> None:
     """Write ``data`` as ``frequency_hz,storage_<unit>,loss_<unit>`` (readable by
-    :func:`load_dma_csv` with ``modulus="shear"``)."""
+    :func:`load_dma_csv` with ``modulus="shear"``), atomically."""
+    from batball.io.store import atomic_path
+
     factor = PRESSURE_UNITS[unit]
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="", encoding="utf-8") as handle:
+    with atomic_path(Path(path)) as tmp, tmp.open("w", newline="", encoding="utf-8") as handle:
         writer = csv.writer(handle)
         writer.writerow(["frequency_hz", f"storage_{unit}", f"loss_{unit}"])
         for f, s, loss in zip(data.frequency_hz, data.storage, data.loss, strict=True):

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from batball.calibrate.dma import DmaData, dma_ball, prony_moduli, write_dma_csv
-from batball.calibrate.targets import Target
+from batball.calibrate.targets import Target, targets_toml
 from batball.errors import SpecError
 from batball.specs import BallSpec, MaterialSpec
 
@@ -42,6 +42,8 @@ SYNTHETIC_CCOR_MPH = (95.0, 110.0)
 SYNTHETIC_DMA_HZ = tuple(float(f) for f in np.logspace(1.0, 6.0, 21))
 #: Times at which the routes' shear relaxation G(t) is compared (s): 0, 10, 100 us, 1 ms.
 RELAXATION_TIMES = (0.0, 1e-5, 1e-4, 1e-3)
+#: The DMA file of a foam truth: compression (tensile-type) moduli E', E''.
+DMA_TENSILE = "dma-tensile.csv"
 
 
 def shear_relaxation(material: MaterialSpec, times: Sequence[float]) -> np.ndarray:
@@ -71,41 +73,25 @@ def exact_dma(truth: BallSpec, frequencies_hz: Sequence[float]) -> DmaData:
     return DmaData(omega, storage, loss)
 
 
-def _target_toml(rows: Sequence[tuple[str, float, str]], title: str) -> str:
-    """A targets TOML (``[[target]]`` tables) of (quantity, speed mph, value text) rows."""
-    lines = [f"# {title}", ""]
-    for quantity, mph, value in rows:
-        lines += [
-            "[[target]]",
-            f'quantity = "{quantity}"',
-            f'speed = "{mph:g} mph"',
-            f"value = {value}",
-            "",
-        ]
-    return "\n".join(lines)
-
-
-def _impact_rows(
+def _impact_targets(
     truth: BallSpec,
     test: str,
     speeds: Sequence[float],
     divisions: int,
-    quantities: Sequence[tuple[str, str, float, str]],
-) -> list[tuple[str, float, str]]:
-    """Run ``test`` on ``truth`` at each speed; (quantity, mph, value text) per quantity:
-    (name, measures key, display factor, unit)."""
+    quantities: Sequence[tuple[str, str]],
+) -> list[Target]:
+    """Run ``test`` on ``truth`` at each speed [mph]; a target per (quantity name, measures
+    key) and speed, holding the truth's measured value (SI)."""
     from batball.calibrate.evaluate import RunRequest, run_request
 
-    rows = []
+    targets = []
     for mph in speeds:
         outcome = run_request(RunRequest(truth, test, mph * MPH, divisions))
         if "measures" not in outcome:
             raise SpecError("truth", truth.name, f"a ball that rebounds ({outcome['error']})")
-        m = outcome["measures"]
-        for name, key, factor, unit in quantities:
-            value = m[key] / factor
-            rows.append((name, mph, f'"{value:.6g} {unit}"' if unit else f"{value:.6g}"))
-    return rows
+        for name, key in quantities:
+            targets.append(Target(name, mph * MPH, float(outcome["measures"][key])))
+    return targets
 
 
 def measure_synthetic(
@@ -119,44 +105,42 @@ def measure_synthetic(
     """Measure ``truth`` with the virtual tests and write each route's data into ``out_dir``:
     ``cor-targets.toml`` (flat-wall COR and peak force at 60 and 95 mph), ``ccor-targets.toml``
     (CCOR, DS, peak force, contact time at 95 and 110 mph), both on a ``divisions`` ball mesh,
-    and ``dma.csv`` (exact shear moduli, psi, at :data:`SYNTHETIC_DMA_HZ`). ``bbs_runs``
+    and the DMA at :data:`SYNTHETIC_DMA_HZ`, psi: for a Prony truth ``dma.csv``, its exact
+    shear moduli; for a foam truth ``dma-tensile.csv``, the compression E', E'' of the virtual
+    DMA (:mod:`batball.calibrate.foam_dma`; read with ``--dma-modulus tensile``). ``bbs_runs``
     (speed mph -> BBS mph, the truth's own, on the bat mesh ``bbs_mesh`` says) go into
-    ``bbs.toml``. Returns the paths by name."""
+    ``bbs.toml``. Returns the paths by name; each file is written atomically."""
+    from batball.io.store import write_text_atomic
+
     out_dir.mkdir(parents=True, exist_ok=True)
-    lbf, lbf_in = 4.4482216152605, 4.4482216152605 / 0.0254
-    cor = _impact_rows(
-        truth,
-        "cor",
-        SYNTHETIC_COR_MPH,
-        divisions,
-        [("cor", "restitution", 1.0, ""), ("wall_peak_force", "peak_force", lbf, "lbf")],
-    )
-    ccor = _impact_rows(
-        truth,
-        "ccor",
-        SYNTHETIC_CCOR_MPH,
-        divisions,
-        [
-            ("ccor", "restitution", 1.0, ""),
-            ("dynamic_stiffness", "dynamic_stiffness", lbf_in, "lbf/in"),
-            ("peak_force", "peak_force", lbf, "lbf"),
-            ("contact_time", "contact_time", 1e-3, "ms"),
-        ],
-    )
+    cor = _impact_targets(
+        truth, "cor", SYNTHETIC_COR_MPH, divisions,
+        [("cor", "restitution"), ("wall_peak_force", "peak_force")],
+    )  # fmt: skip
+    ccor = _impact_targets(
+        truth, "ccor", SYNTHETIC_CCOR_MPH, divisions,
+        [("ccor", "restitution"), ("dynamic_stiffness", "dynamic_stiffness"),
+         ("peak_force", "peak_force"), ("contact_time", "contact_time")],
+    )  # fmt: skip
     note = f"synthetic data of the true ball {truth.name}, {divisions}-division ball mesh"
     paths = {
         "cor": out_dir / "cor-targets.toml",
         "ccor": out_dir / "ccor-targets.toml",
-        "dma": out_dir / "dma.csv",
+        "dma": out_dir / ("dma.csv" if truth.material.law.startswith("prony") else DMA_TENSILE),
         "bbs": out_dir / "bbs.toml",
     }
-    paths["cor"].write_text(_target_toml(cor, "flat-wall COR route: " + note), encoding="utf-8")
-    paths["ccor"].write_text(_target_toml(ccor, "CCOR route: " + note), encoding="utf-8")
-    write_dma_csv(paths["dma"], exact_dma(truth, SYNTHETIC_DMA_HZ), unit="psi")
+    write_text_atomic(paths["cor"], targets_toml(cor, "flat-wall COR route: " + note))
+    write_text_atomic(paths["ccor"], targets_toml(ccor, "CCOR route: " + note))
+    if truth.material.law.startswith("prony"):
+        write_dma_csv(paths["dma"], exact_dma(truth, SYNTHETIC_DMA_HZ), unit="psi")
+    else:
+        from batball.calibrate.foam_dma import measure_foam_dma
+
+        write_dma_csv(paths["dma"], measure_foam_dma(truth.material, SYNTHETIC_DMA_HZ))
     bbs = [f"# the true ball's batted-ball speed, {note}; bat {bbs_mesh}", ""]
     for mph, value in sorted((bbs_runs or {}).items()):
         bbs += ["[[bbs]]", f'speed = "{mph:g} mph"', f'value = "{value:.6g} mph"', ""]
-    paths["bbs"].write_text("\n".join(bbs), encoding="utf-8")
+    write_text_atomic(paths["bbs"], "\n".join(bbs))
     return paths
 
 
@@ -353,6 +337,7 @@ def compare_routes(
 
 
 __all__ = [
+    "DMA_TENSILE",
     "RELAXATION_TIMES",
     "ROUTES",
     "SYNTHETIC_CCOR_MPH",

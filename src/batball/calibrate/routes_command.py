@@ -6,6 +6,7 @@ Import-light at module level (the CLI builds its parser from here).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 from pathlib import Path
 from typing import Any
@@ -14,6 +15,14 @@ from batball.errors import SpecError
 
 #: Defaults of the comparison's meshes: the coarse ball and bat the synthetic data set uses.
 DEFAULT_DIVISIONS = 8
+
+
+def add_bbs_run_arguments(p: argparse.ArgumentParser) -> None:
+    """The BBS runs' end time and time-step scale (both commands)."""
+    p.add_argument("--end-time", default="2 ms", help="longest BBS run (2 ms)")
+    p.add_argument(
+        "--time-step-scale", type=float, default=0.9, help="BBS runs' time-step scale (0.9)"
+    )
 
 
 def add_compare_arguments(p: argparse.ArgumentParser) -> None:
@@ -53,7 +62,12 @@ def add_compare_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--prony-terms", type=int, default=3, help="Prony terms of the DMA fit (3)")
     p.add_argument("--speeds", action="append", help="BBS inbound speed; repeat (95, 110 mph)")
-    p.add_argument("--measured-bbs", type=Path, help="TOML of [[bbs]] speed, value (measured)")
+    p.add_argument(
+        "--measured-bbs",
+        type=Path,
+        help="TOML of [[bbs]] speed, value (measured); 'none': no measured BBS (else, for "
+        "type1/type2, the seed's Table 9)",
+    )
     p.add_argument("--truth", help="a known true ball (synthetic data): its BBS and G(t) too")
     p.add_argument(
         "--divisions",
@@ -64,7 +78,7 @@ def add_compare_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--global-points", type=int, default=8, help="Latin-hypercube points (8)")
     p.add_argument("--max-evaluations", type=int, default=15, help="least-squares budget (15)")
     p.add_argument("--workers", type=int, help="process pool size (default: CPU cores)")
-    p.add_argument("--end-time", default="2 ms", help="longest BBS run (2 ms)")
+    add_bbs_run_arguments(p)
 
 
 def add_synthetic_arguments(p: argparse.ArgumentParser) -> None:
@@ -72,7 +86,7 @@ def add_synthetic_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--truth",
         default="benchmarks/routes/synthetic/true-ball.toml",
-        help="the true ball (a Prony ball TOML)",
+        help="the true ball (a Prony or MAT_057/MAT_083 foam ball TOML)",
     )
     p.add_argument(
         "--out",
@@ -82,7 +96,50 @@ def add_synthetic_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--divisions", type=int, default=DEFAULT_DIVISIONS, help="ball mesh (8)")
     p.add_argument("--speeds", action="append", help="BBS inbound speed; repeat (95, 110 mph)")
-    p.add_argument("--end-time", default="2 ms", help="longest BBS run (2 ms)")
+    p.add_argument(
+        "--no-bbs",
+        action="store_true",
+        help="skip the truth's BBS runs (bbs.toml then says so; e.g. a foam truth, which the "
+        "coupled BBS run cannot yet carry)",
+    )
+    add_bbs_run_arguments(p)
+
+
+def add_noise_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``batball synthetic-noise``."""
+    from batball.calibrate.noise import NoiseLevels
+
+    d = NoiseLevels()
+    p.add_argument(
+        "--source",
+        type=Path,
+        default=Path("benchmarks/routes/synthetic"),
+        help="folder of exact route data (batball synthetic-data's --out)",
+    )
+    p.add_argument("--out", type=Path, required=True, help="folder for seed-<N>/ copies")
+    p.add_argument("--seeds", type=int, nargs="+", default=[1], help="one noisy copy per seed")
+    p.add_argument("--restitution-sd", type=float, default=d.restitution, help="COR/CCOR, abs.")
+    p.add_argument("--force-sd", type=float, default=d.force, help="DS, peak forces, relative")
+    p.add_argument("--contact-time-sd", type=float, default=d.contact_time, help="relative")
+    p.add_argument("--dma-sd", type=float, default=d.dma, help="DMA moduli, relative")
+
+
+def run_noise_command(args: argparse.Namespace) -> int:
+    """``batball synthetic-noise``: seeded noisy copies of a synthetic route data set."""
+    from batball.calibrate.noise import NoiseLevels, write_noisy_data
+
+    levels = NoiseLevels(
+        restitution=args.restitution_sd,
+        force=args.force_sd,
+        contact_time=args.contact_time_sd,
+        dma=args.dma_sd,
+    )
+    written = {}
+    for seed in args.seeds:
+        paths = write_noisy_data(args.source, args.out / f"seed-{seed}", seed=seed, levels=levels)
+        written[str(seed)] = {k: v.as_posix() for k, v in paths.items()}
+    print(json.dumps({"levels": dataclasses.asdict(levels), "files": written}, indent=2))
+    return 0
 
 
 def _speeds_mph(args: argparse.Namespace) -> list[float]:
@@ -100,8 +157,11 @@ def _bbs_setup(args: argparse.Namespace) -> Any:
 
     if not 2 <= args.divisions <= 40:
         raise SpecError("divisions", args.divisions, "an integer 2..40")
+    if not 0.0 < args.time_step_scale <= 1.0:
+        raise SpecError("time-step-scale", args.time_step_scale, "0 < scale <= 1")
     mesh = bat_mesh_options(args)
     return BbsSetup(
+        time_step_scale=args.time_step_scale,
         ball_divisions=args.divisions,
         circumferential=mesh["circumferential"],
         axial_size=mesh["axial_size"],
@@ -164,6 +224,8 @@ def measured_bbs(args: argparse.Namespace, ball_name: str, speeds: list[float]) 
     from batball.specs.seed import load_seed_tables
 
     if args.measured_bbs is not None:
+        if str(args.measured_bbs) == "none":
+            return {}
         return load_measured_bbs(args.measured_bbs)
     if ball_name not in EMBEDDED_BALLS:
         return {}
@@ -243,8 +305,6 @@ def describe_comparison(r: dict[str, Any]) -> str:
 
 def run_synthetic_command(args: argparse.Namespace) -> int:
     """``batball synthetic-data``: measure the true ball and write the routes' data files."""
-    import dataclasses
-
     from batball.calibrate.routes import measure_synthetic
     from batball.lab.bbs_run import run_bbs_test
     from batball.specs import load_ball_spec, load_bat_spec
@@ -252,12 +312,14 @@ def run_synthetic_command(args: argparse.Namespace) -> int:
     truth = load_ball_spec(args.truth)
     setup, bat = _bbs_setup(args), load_bat_spec(args.bat)
     bbs = {}
-    for mph in _speeds_mph(args):
+    for mph in [] if args.no_bbs else _speeds_mph(args):
         summary, _ = run_bbs_test(
             bat, truth, dataclasses.replace(setup, speed=mph * 0.44704), runs_dir=args.runs_dir
         )
         bbs[mph] = float(summary["bbs_mph"])
     mesh = f"{bat.name}, {args.circumferential} shells round, axial size {args.axial_size}"
+    if args.no_bbs:
+        mesh += "; not measured (--no-bbs)"
     paths = measure_synthetic(
         truth, args.out, divisions=args.divisions, bbs_runs=bbs, bbs_mesh=mesh
     )

@@ -222,6 +222,24 @@ def describe_value(target: Target, value: float) -> str:
     return f"{value:.4g}" if unit == "" else format_quantity(value, unit)
 
 
+def targets_toml(targets: Sequence[Target], title: str) -> str:
+    """A targets TOML (``[[target]]`` tables, values in each quantity's display unit, six
+    figures) that :func:`load_targets` reads back."""
+    lines = [f"# {title}", ""]
+    for target in targets:
+        unit = target.spec.display_unit
+        value = to_unit(target.value, unit) if unit else target.value
+        text = f'"{value:.6g} {unit}"' if unit else f"{value:.6g}"
+        lines += [
+            "[[target]]",
+            f'quantity = "{target.quantity}"',
+            f'speed = "{to_unit(target.speed, "mph"):.6g} mph"',
+            f"value = {text}",
+            "",
+        ]
+    return "\n".join(lines)
+
+
 __all__ = [
     "QUANTITIES",
     "STATIC_TESTS",
@@ -231,4 +249,5 @@ __all__ = [
     "load_targets",
     "seed_targets",
     "target_from_dict",
+    "targets_toml",
 ]
