@@ -202,9 +202,9 @@ def add_modal_parser(sub: Any) -> None:
     p = sub.add_parser("modal", help=help_text, description=help_text)
     add_bat_mesh_options(p)
     p.add_argument("--modes", type=int, default=30, help="modes to compute (default 30)")
-    p.add_argument("--insert", choices=("bonded", "contact"), default="bonded",
-                   help="insert tied to the barrel (default), or the pre-stressed fit's contact: "
-                        "radial springs, frictionless sliding (docs/barrel.md)")  # fmt: skip
+    p.add_argument("--insert", choices=("bonded", "contact"), default="contact",
+                   help="the pre-stressed fit's contact (default: radial springs, frictionless "
+                        "sliding; docs/modal.md), or the insert tied to the barrel")  # fmt: skip
     add_store_options(p)
     p.set_defaults(handler=run_modal_command)
 

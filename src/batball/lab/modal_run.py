@@ -34,7 +34,7 @@ INSERT_DESCRIPTIONS = {
 
 
 def summarise_modes(spec: BatSpec, modes: BatModes, wall_seconds: float, *,
-                    insert: str = "bonded") -> dict[str, Any]:  # fmt: skip
+                    insert: str = "contact") -> dict[str, Any]:  # fmt: skip
     """The summary a person reads: each number's unit is in its key."""
     bending, hoop = modes.first("bending"), modes.first("hoop")
     return {
@@ -100,7 +100,7 @@ def run_modal_test(
     axial_size: float = DEFAULT_AXIAL_SIZE,
     n_modes: int = 30,
     reuse: bool = True,
-    insert: str = "bonded",
+    insert: str = "contact",
 ) -> tuple[dict[str, Any], Path]:
     """Compute (or reuse) a bat's free-free modes; returns the summary and the run folder.
     ``insert``: "bonded" or "contact" (:func:`batball.lab.modal.bat_modes`)."""

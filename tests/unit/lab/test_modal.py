@@ -42,7 +42,8 @@ def test_modal_json_reports_two_bending_and_two_hoop_frequencies(tmp_path: Path,
     (verification.md case 19, within 5 %); first hoop within the n = 2 ring estimate of the
     bonded 0.15-in barrel wall, 1950-2560 Hz (physics.md section 7.3; the insert is bonded
     here), the upper end raised 7 % for the ovalling error of 16 quads around (docs/modal.md)."""
-    args = ["modal", "--bat", "default", "--json", "--runs-dir", str(tmp_path), *COARSE]
+    args = ["modal", "--bat", "default", "--insert", "bonded", "--json", "--runs-dir",
+            str(tmp_path), *COARSE]  # fmt: skip
     assert main(args) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary.keys() >= {"bending_hz", "hoop_hz", "n_modes", "wall_seconds"}
@@ -60,7 +61,8 @@ def test_first_hoop_mode_ovals_the_barrel_under_the_insert_not_the_open_end() ->
     the full-diameter barrel, before the insert's far end; the lower open-end ring ovalling mode
     (centred beyond the insert, where only the end cap's mass sits) exists but is not picked."""
     spec = load_bat_spec("default")
-    modes = bat_modes(spec, circumferential=16, axial_size=0.5 * 0.0254, n_modes=30)
+    modes = bat_modes(spec, circumferential=16, axial_size=0.5 * 0.0254, n_modes=30,
+                      insert="bonded")
     mesh = modes.mesh
     n_outer = mesh.point_sets["outer"].size
     rings = mesh.points[:n_outer].reshape(-1, 16, 3)
