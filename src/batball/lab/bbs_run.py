@@ -69,6 +69,13 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         "angular_momentum_change": m.angular_momentum_change,
         "rebound_drift_mph": m.rebound_drift / MPH,
         "pivot_moi_oz_in2": m.pivot_inertia / OZ_IN2,
+        "model_pivot_moi_oz_in2": m.model_pivot_inertia / OZ_IN2,
+        "mass_scaling": setup.mass_scaling,
+        "added_mass_g": float(result.model.added_mass.sum() * 1e3),
+        "added_mass_percent": float(
+            100 * result.model.added_mass.sum() / result.model.coupled.bat.mass[:, 0].sum()
+        ),
+        "time_step_s": float(result.model.coupled.bat.stable_step),
         "pivot_to_impact_in": m.z / IN,
         "rigid_bat": setup.rigid_bat,
         "prestress": setup.prestress,
