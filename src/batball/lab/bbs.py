@@ -80,7 +80,9 @@ class BbsSetup:
         search_interval: cycles between contact searches.
         prestress: press the insert in by dynamic relaxation before the impact (else its
             initial overlap is ignored and it just touches the barrel).
-        relax_steps: (ramp, settle) cycles of that relaxation.
+        relax_time: (ramp, settle) duration of that relaxation [s]; the cycles are these over
+            the stable step, so a finer mesh gets the same physical time (docs/bbs.md);
+            relax_steps: the fewest (ramp, settle) cycles, whatever the step.
         contact_reach: the ball-bat contact includes only the bat's outer shells and nodes
             within this distance of the impact station along the bat [m] (None: the whole
             bat); the 3-in default is the ball's radius plus about an inch, so no part of the
@@ -112,6 +114,7 @@ class BbsSetup:
     insert_contact: bool = True
     search_interval: int = 10
     prestress: bool = True
+    relax_time: tuple[float, float] = (0.16e-3, 0.32e-3)
     relax_steps: tuple[int, int] = (400, 800)
     mass_scaling: float | str | None = "barrel"
     contact_reach: float | None = 3.0 * IN
@@ -135,6 +138,8 @@ class BbsSetup:
             raise SpecError("end_time", self.end_time, "0 s < end_time <= 0.02 s")
         if not all(0 <= n <= 100_000 for n in self.relax_steps) or self.relax_steps[0] < 1:
             raise SpecError("relax_steps", self.relax_steps, "(ramp >= 1, settle >= 0) cycles")
+        if not all(0.0 <= t <= 0.01 for t in self.relax_time):
+            raise SpecError("relax_time", self.relax_time, "(ramp, settle) each 0 s .. 0.01 s")
         if not 1 <= self.search_interval <= 100:
             raise SpecError("search_interval", self.search_interval, "an integer 1..100")
         if self.contact_reach is not None and not 0.5 * IN <= self.contact_reach <= 100 * IN:
@@ -379,13 +384,22 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
     inserts = model.coupled.contacts[model.coupled.ball_contacts :]
     ratio, pressure = float("nan"), float("nan")
     if setup.prestress and inserts:
-        ratio = solver.relax_bat(interference=model.interference,
-                                 ramp_steps=setup.relax_steps[0],
-                                 settle_steps=setup.relax_steps[1])  # fmt: skip
+        ramp, settle = relaxation_cycles(setup, model.coupled.bat.stable_step)
+        ratio = solver.relax_bat(interference=model.interference, ramp_steps=ramp,
+                                 settle_steps=settle)  # fmt: skip
         pressure = insert_pressure(model, solver.points)
     result = solver.run()
     result.prestress_kinetic_ratio, result.interference_pressure = ratio, pressure
     return result
+
+
+def relaxation_cycles(setup: BbsSetup, step: float) -> tuple[int, int]:
+    """(ramp, settle) cycles of the pre-stress: ``setup.relax_time`` over the bat's ``step``
+    [s], at least ``setup.relax_steps``. The fit settles in physical time (the full-size mesh
+    reached 76 psi of 92 in 1,200 cycles at 1.2e-7 s, 92.5 psi in 2,400 at 2.1e-7 s: docs/bbs.md),
+    so a finer mesh needs proportionally more cycles."""
+    return (max(setup.relax_steps[0], int(np.ceil(setup.relax_time[0] / step))),
+            max(setup.relax_steps[1], int(np.ceil(setup.relax_time[1] / step))))  # fmt: skip
 
 
 def insert_pressure(model: BbsModel, points: np.ndarray) -> float:
