@@ -36,12 +36,14 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
-from batball.numerics import FASTMATH
+from batball.numerics import FASTMATH, threads_for_work
 
 #: Tolerance on |xi|, |eta| beyond 1 when a node is taken as over a segment.
 EDGE_TOLERANCE = 0.02
 #: Most candidate segments kept per slave node.
 MAX_CANDIDATES = 24
+#: Candidate checks of one search or force pass below which it runs on one thread (numerics).
+PARALLEL_MIN_WORK = 200_000
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -149,19 +151,24 @@ def search_candidates(points: np.ndarray, slave_nodes: np.ndarray, segments: np.
     return candidates, n_candidates
 
 
-@nb.njit(inline="always", fastmath=FASTMATH)
-def segment_plane(x: np.ndarray, c: np.ndarray) -> tuple[float, float, float, float]:
-    """(d, n_x, n_y, n_z): signed distance of x from the centroid plane of the quad ``c`` (4, 3)
-    and the plane's unit normal (from the diagonals, right-hand rule)."""
-    a0, a1, a2 = c[2, 0] - c[0, 0], c[2, 1] - c[0, 1], c[2, 2] - c[0, 2]
-    b0, b1, b2 = c[3, 0] - c[1, 0], c[3, 1] - c[1, 1], c[3, 2] - c[1, 2]
-    n0, n1, n2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
-    norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-    n0, n1, n2 = n0 / norm, n1 / norm, n2 / norm
-    r0 = x[0] - 0.25 * (c[0, 0] + c[1, 0] + c[2, 0] + c[3, 0])
-    r1 = x[1] - 0.25 * (c[0, 1] + c[1, 1] + c[2, 1] + c[3, 1])
-    r2 = x[2] - 0.25 * (c[0, 2] + c[1, 2] + c[2, 2] + c[3, 2])
-    return r0 * n0 + r1 * n1 + r2 * n2, n0, n1, n2
+@nb.njit(cache=True, fastmath=FASTMATH)
+def segment_planes(points: np.ndarray, segments: np.ndarray, active: np.ndarray,
+                   planes: np.ndarray) -> None:  # fmt: skip
+    """Centroid and unit normal (from the diagonals, right-hand rule) of each ``active`` segment
+    into ``planes`` (n_segments, 6) [m, -]; computed once per segment and cycle rather than once
+    per candidate (a node has about 9 candidates on the insert-barrel contact)."""
+    for i in range(active.shape[0]):
+        s = active[i]
+        c0, c1, c2, c3 = segments[s, 0], segments[s, 1], segments[s, 2], segments[s, 3]
+        a0, a1, a2 = (points[c2, 0] - points[c0, 0], points[c2, 1] - points[c0, 1],
+                      points[c2, 2] - points[c0, 2])  # fmt: skip
+        b0, b1, b2 = (points[c3, 0] - points[c1, 0], points[c3, 1] - points[c1, 1],
+                      points[c3, 2] - points[c1, 2])  # fmt: skip
+        n0, n1, n2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+        norm = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+        for k in range(3):
+            planes[s, k] = 0.25 * (points[c0, k] + points[c1, k] + points[c2, k] + points[c3, k])
+        planes[s, 3], planes[s, 4], planes[s, 5] = n0 / norm, n1 / norm, n2 / norm
 
 
 #: |xi| or |eta| after the first Newton step beyond which a node is plainly off the segment
@@ -211,7 +218,7 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
                          slave_stiffness: np.ndarray, segments: np.ndarray,
                          segment_thickness: np.ndarray, two_sided: bool, depth: float,
                          gap_offset: np.ndarray, candidates: np.ndarray,
-                         n_candidates: np.ndarray, slave_force: np.ndarray,
+                         n_candidates: np.ndarray, planes: np.ndarray, slave_force: np.ndarray,
                          contact_segment: np.ndarray, weights: np.ndarray,
                          penetration: np.ndarray) -> None:  # fmt: skip
     """Penalty force on each slave node from its deepest-penetrated candidate (module docs).
@@ -223,6 +230,8 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
             a solid face still taken as contact [m].
         gap_offset: (n_slaves,) penetration subtracted from each slave's (initial overlaps) [m].
         candidates, n_candidates: from :func:`search_candidates`.
+        planes: (n_segments, 6) centroid and unit normal of every candidate segment
+            (:func:`segment_planes`).
         slave_force: (n_slaves, 3) out [N]; contact_segment: (n_slaves,) out, -1 where free;
             weights: (n_slaves, 4) out, N_a at the contact point; penetration: (n_slaves,) out [m].
     """
@@ -234,9 +243,8 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
         bn = np.zeros(3)
         for c in range(n_candidates[n]):
             s = candidates[n, c]
-            for a in range(4):
-                corners[a] = points[segments[s, a]]
-            d, n0, n1, n2 = segment_plane(x, corners)
+            n0, n1, n2 = planes[s, 3], planes[s, 4], planes[s, 5]
+            d = (x[0] - planes[s, 0]) * n0 + (x[1] - planes[s, 1]) * n1 + (x[2] - planes[s, 2]) * n2
             reach = slave_thickness[n] + segment_thickness[s]
             if two_sided:
                 sign = 1.0 if d >= 0.0 else -1.0
@@ -248,6 +256,8 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
                 p = reach - d - gap_offset[n]
             if p <= best_p:  # cannot be taken, wherever x projects: skip the projection
                 continue
+            for a in range(4):
+                corners[a] = points[segments[s, a]]
             xi, eta = segment_coordinates(x, corners, d, n0, n1, n2, scratch)
             if abs(xi) > 1.0 + EDGE_TOLERANCE or abs(eta) > 1.0 + EDGE_TOLERANCE:
                 continue
@@ -321,20 +331,29 @@ class SegmentContact:
         self.contact_segment = np.full(n, -1, dtype=np.int64)
         self.weights = np.zeros((n, 4))
         self.penetration = np.zeros(n)
+        self.planes = np.zeros((len(self.segments), 6))
+        self.active_segments = np.zeros(0, dtype=np.int64)
 
     def search(self, points: np.ndarray) -> None:
         """Refresh every slave's candidate segments (bucket search)."""
         grow = self.segment_thickness + self.slave_thickness.max(initial=0.0) + self.margin
-        self.candidates, self.n_candidates = search_candidates(
-            points, self.slave_nodes, self.segments, grow
-        )
+        with threads_for_work(self.slave_nodes.size * MAX_CANDIDATES,
+                              parallel_min_work=PARALLEL_MIN_WORK):  # fmt: skip
+            self.candidates, self.n_candidates = search_candidates(
+                points, self.slave_nodes, self.segments, grow
+            )
+        taken = np.arange(MAX_CANDIDATES) < self.n_candidates[:, None]
+        self.active_segments = np.unique(self.candidates[taken])
 
     def add_forces(self, points: np.ndarray, forces: np.ndarray) -> int:
         """Add this contact's forces to ``forces`` (n_points, 3) [N]; returns slaves touching."""
-        slave_penalty_forces(points, self.slave_nodes, self.slave_thickness, self.slave_stiffness,
-                             self.segments, self.segment_thickness, self.two_sided, self.depth,
-                             self.gap_offset, self.candidates, self.n_candidates, self.slave_force,
-                             self.contact_segment, self.weights, self.penetration)  # fmt: skip
+        segment_planes(points, self.segments, self.active_segments, self.planes)
+        with threads_for_work(int(self.n_candidates.sum()), parallel_min_work=PARALLEL_MIN_WORK):
+            slave_penalty_forces(points, self.slave_nodes, self.slave_thickness,
+                                 self.slave_stiffness, self.segments, self.segment_thickness,
+                                 self.two_sided, self.depth, self.gap_offset, self.candidates,
+                                 self.n_candidates, self.planes, self.slave_force,
+                                 self.contact_segment, self.weights, self.penetration)  # fmt: skip
         return int(scatter_pair_forces(self.slave_nodes, self.segments, self.slave_force,
                                        self.contact_segment, self.weights, forces))  # fmt: skip
 
