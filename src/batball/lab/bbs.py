@@ -145,10 +145,8 @@ class BbsSetup:
         if self.contact_reach is not None and not 0.5 * IN <= self.contact_reach <= 100 * IN:
             raise SpecError("contact_reach", self.contact_reach, "0.5 in .. 100 in, or None")
         scaling = self.mass_scaling
-        if (
-            isinstance(scaling, str)
-            and scaling != "barrel"
-            or (isinstance(scaling, float) and not 0.0 < scaling <= 1e-5)
+        if scaling not in (None, "barrel") and (
+            isinstance(scaling, str) or not 0.0 < float(scaling) <= 1e-5
         ):
             allowed = '"barrel", a target step 0 s < dt <= 1e-5 s, or None (off)'
             raise SpecError("mass_scaling", scaling, allowed)

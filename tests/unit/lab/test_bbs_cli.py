@@ -66,3 +66,9 @@ def test_rigid_bat_summary_is_valid_json_without_a_prestress(tmp_path: Path, cap
     assert s["interference_pressure_psi"] is None
     assert s["added_mass_g"] == 0.0  # a rigid bat is not mass-scaled
     assert s["model_pivot_moi_oz_in2"] == pytest.approx(s["pivot_moi_oz_in2"], rel=1e-12)
+
+
+@pytest.mark.parametrize("value", ["all", 0.0, 1.0])
+def test_setup_rejects_a_bad_mass_scaling(value: object) -> None:
+    with pytest.raises(SpecError, match="mass_scaling"):
+        BbsSetup(mass_scaling=value)  # type: ignore[arg-type]
