@@ -705,6 +705,10 @@ def add_bbs_parser(sub: Any) -> None:
     p.add_argument("--end-time", default="2 ms", help="longest run (2 ms, as the seed)")
     p.add_argument("--rigid-bat", action="store_true",
                    help="the bat as a rigid body on the pivot (verification)")  # fmt: skip
+    p.add_argument("--mass-scaling", default="barrel",
+                   help="selective mass scaling of the shells below a target step (LS-DYNA "
+                        "DT2MS < 0): barrel (default: the barrel's or the ball's step), off, "
+                        "or the target step, e.g. '2e-7 s'")  # fmt: skip
     add_store_options(p)
     p.set_defaults(handler=run_bbs_command)
 
@@ -728,7 +732,17 @@ def bbs_setup(args: argparse.Namespace) -> Any:
         ball_divisions=args.ball_divisions, circumferential=mesh["circumferential"],
         axial_size=mesh["axial_size"], rigid_bat=args.rigid_bat,
         end_time=parse_quantity(args.end_time, "time", field="end-time"),
+        mass_scaling=mass_scaling_option(args.mass_scaling),
     )  # fmt: skip
+
+
+def mass_scaling_option(text: str) -> float | str | None:
+    """``--mass-scaling``: "barrel", "off" (None) or a target step (parsed to seconds)."""
+    from batball.units import parse_quantity
+
+    if text in ("barrel", "off"):
+        return None if text == "off" else text
+    return parse_quantity(text, "time", field="mass-scaling")
 
 
 def run_bbs_command(args: argparse.Namespace) -> int:

@@ -7,6 +7,10 @@ width LLVM generates: see :func:`prefer_wide_vectors`.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import numba as nb
 
 from batball.errors import SpecError
 
@@ -37,14 +41,13 @@ def prefer_wide_vectors() -> str | None:
         raise SpecError(f"environment variable {VECTOR_WIDTH_VARIABLE}", choice, "256 or 512")
     if choice == "256" or os.environ.get("NUMBA_CPU_FEATURES"):
         return None
-    import numba
     from llvmlite import binding
 
     host = binding.get_host_cpu_features()
     if not host.get("avx512f", False):
         return None
     features = host.flatten() + ",-prefer-256-bit"
-    numba.config.CPU_FEATURES = features  # type: ignore[attr-defined]
+    nb.config.CPU_FEATURES = features  # type: ignore[attr-defined]
     # so that Numba's reload of its configuration from the environment keeps it, and so that
     # worker processes (calibration pools, Dask) compile the same code
     os.environ["NUMBA_CPU_FEATURES"] = features
@@ -52,3 +55,24 @@ def prefer_wide_vectors() -> str | None:
 
 
 WIDE_VECTOR_FEATURES = prefer_wide_vectors()
+
+
+@contextmanager
+def threads_for_work(work: int, *, parallel_min_work: int) -> Iterator[None]:
+    """Run the enclosed Numba parallel kernels on one thread when ``work`` (a count of inner
+    iterations) is below ``parallel_min_work``, on all of Numba's threads otherwise.
+
+    A parallel region has to wake its worker threads: microseconds on an idle machine, but on
+    the shared 2-core machine under load (load average 6) each region of the full-size BBS
+    contact cost about 30 ms with 2 threads against 0.01-4 ms on one (docs/bbs.md), so small
+    kernels are better left serial.
+    """
+    threads = nb.get_num_threads()
+    if work >= parallel_min_work or threads == 1:
+        yield
+        return
+    nb.set_num_threads(1)
+    try:
+        yield
+    finally:
+        nb.set_num_threads(threads)

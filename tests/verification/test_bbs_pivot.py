@@ -20,8 +20,10 @@ pivot is the F2398 MOI of lab/props on the same mesh.
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
+from batball.elements.shell_explicit import cell_stable_steps
 from batball.lab.barrel import thin_ring_interference_pressure
 from batball.lab.bbs import BbsResult, BbsSetup, run_bbs
 from batball.lab.props import bat_mass_properties
@@ -34,6 +36,8 @@ IN = 0.0254
 #: which are not orthogonal to rotations, and changes the angular momentum by about 7e-4 here.
 COARSE = {"ball_divisions": 4, "circumferential": 12, "axial_size": 0.75 * IN,
           "separation_time": 0.05e-3, "hourglass": HourglassControl(type=5)}  # fmt: skip
+#: The deformable bat, with the default selective mass scaling (to the barrel's step).
+DEFORMABLE = {**COARSE, "circumferential": 16, "axial_size": 0.5 * IN}
 
 
 @pytest.fixture(scope="module")
@@ -43,7 +47,8 @@ def runs() -> dict[str, BbsResult]:
         "fixed": BbsSetup(fixed_bat=True, **COARSE),
         "rigid": BbsSetup(rigid_bat=True, **COARSE),
         "rigid_24in": BbsSetup(rigid_bat=True, pivot_from_knob=24.0 * IN, **COARSE),
-        "deformable": BbsSetup(**{**COARSE, "circumferential": 16, "axial_size": 0.5 * IN}),
+        "deformable": BbsSetup(**DEFORMABLE),
+        "whole_contact": BbsSetup(**DEFORMABLE, contact_reach=None),
     }
     return {name: run_bbs(bat, ball, setup) for name, setup in setups.items()}
 
@@ -95,3 +100,29 @@ def test_dynamic_relaxation_presses_the_insert_to_the_thin_ring_pressure(
     spec = load_bat_spec("default")
     expected = thin_ring_interference_pressure(spec)
     assert runs["deformable"].run.interference_pressure == pytest.approx(expected, rel=0.05)
+
+
+def test_deformable_run_is_mass_scaled_to_the_barrel_step(runs: dict[str, BbsResult]) -> None:
+    """The momentum and energy checks above hold with the mass that selective mass scaling adds
+    (to taper-1 and the handle on this mesh): the step is the barrel's, and the model's MOI
+    carries the added mass while the BBCOR's k uses the real bat's."""
+    model, m = runs["deformable"].model, runs["deformable"].measures
+    bat = model.coupled.bat
+    steps = 0.9 * cell_stable_steps(model.bat_mesh.points, bat.cells, bat.section)
+    barrel = np.concatenate([c for n, c in model.bat_mesh.cell_sets.items()
+                             if n.startswith("barrel") or n == "insert"])  # fmt: skip
+    assert bat.stable_step == pytest.approx(steps[barrel].min(), rel=1e-12)
+    assert bat.stable_step > 2.0 * steps.min()  # taper-1's step was less than half of it
+    assert model.added_mass[barrel].sum() == 0.0
+    assert m.model_pivot_inertia > m.pivot_inertia
+
+
+def test_contact_limited_to_the_impact_region_changes_nothing(
+    runs: dict[str, BbsResult],
+) -> None:
+    """The bat's side of the ball-bat contact within 3 in of the impact (the ball's radius is
+    1.9 in) against the whole bat: the same contact force history, to round-off."""
+    near, whole = runs["deformable"].run, runs["whole_contact"].run
+    assert near.n_steps == whole.n_steps
+    force = whole.column("contact_force_n")
+    np.testing.assert_allclose(near.column("contact_force_n"), force, atol=1e-9 * force.max())

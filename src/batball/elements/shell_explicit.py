@@ -10,7 +10,8 @@
   so it is for explicit dynamics and relaxation, not for modal analysis (which uses
   :mod:`batball.elements.shell_stiffness`).
 * Stable step (physics.md section 6.2): dt_e = L_s / c, L_s = area / longest side, c the stiffest
-  layer's plate wave speed; dt = time_step_factor * min dt_e (TSSFAC 0.9).
+  layer's plate wave speed; dt = time_step_factor * min dt_e (TSSFAC 0.9). Selective mass
+  scaling (LS-DYNA DT2MS < 0) adds mass to the few cells whose step is below a target.
 * Dynamic relaxation: central differences with mass-proportional damping c = 2 omega_1 (critical
   for the lowest mode), omega_1 from the Rayleigh quotient of the current displacement
   (Underwood 1983), for static answers of the explicit element.
@@ -63,15 +64,46 @@ def lumped_shell_mass(
     return mass
 
 
+def cell_stable_steps(points: np.ndarray, cells: np.ndarray, section: LayeredSection) -> np.ndarray:
+    """Each shell's critical step area / longest side / c, (n_cells,) [s] (no TSSFAC)."""
+    x = points[cells]
+    sides = np.linalg.norm(x - np.roll(x, -1, axis=1), axis=2).max(axis=1)
+    speed = section.wave_speed[section.cell_laminate]
+    return np.asarray(quad_areas(points, cells) / sides / speed)
+
+
 def stable_time_step(
     points: np.ndarray, cells: np.ndarray, section: LayeredSection, *,
     time_step_factor: float = TIME_STEP_FACTOR,
 ) -> float:  # fmt: skip
     """Explicit stable step of the shells, s: factor * min(area / longest side / c)."""
-    x = points[cells]
-    sides = np.linalg.norm(x - np.roll(x, -1, axis=1), axis=2).max(axis=1)
-    speed = section.wave_speed[section.cell_laminate]
-    return float(time_step_factor * np.min(quad_areas(points, cells) / sides / speed))
+    return float(time_step_factor * np.min(cell_stable_steps(points, cells, section)))
+
+
+def selective_mass_scaling(
+    points: np.ndarray, cells: np.ndarray, section: LayeredSection, target_step: float, *,
+    time_step_factor: float = TIME_STEP_FACTOR,
+) -> np.ndarray:  # fmt: skip
+    """Areal mass to add to the shells whose step is below ``target_step``, (n_cells,) [kg/m^2].
+
+    LS-DYNA ``*CONTROL_TIMESTEP`` with DT2MS < 0 (selective mass scaling): mass is added only
+    to the elements whose step, TSSFAC dt_e, would be less than TSSFAC |DT2MS| (here
+    ``target_step``, the step wanted), so that their step becomes equal to it; the others are
+    untouched (LS-DYNA support, "Mass scaling", https://lsdyna.ansys.com/mass-scaling/). The
+    plate wave speed goes as 1 / sqrt(density), so a cell whose step is short by the ratio
+    r = target / (TSSFAC dt_e) < 1 gets its laminate's areal mass m0 multiplied by 1 / r^2:
+    added m0 (1 / r^2 - 1). m0 is the laminate's own areal mass (the one its wave speed
+    belongs to), so the lumped non-structural mass a cell may carry is extra inertia on top.
+
+    Args:
+        points: (n_points, 3) [m]; cells: (n_cells, 4); section: layer data.
+        target_step: the step to reach [s] (TSSFAC already applied, like the returned steps of
+            :func:`stable_time_step`).
+        time_step_factor: TSSFAC.
+    """
+    steps = time_step_factor * cell_stable_steps(points, cells, section)
+    ratio = np.minimum(steps / target_step, 1.0)
+    return np.asarray(section.areal_mass[section.cell_laminate] * (1.0 / ratio**2 - 1.0))
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,8 @@ left the bat and its speed is steady (the seed ran 2 ms). Measurements (physics.
 * collision efficiency e_A = v_out / v_in, v the ball's centre-of-mass speed along the flight
   line (v_out > 0: rebound);
 * BBCOR e = e_A (1 + k) + k with k = m_ball z^2 / I_pivot, z the pivot-to-impact distance and
-  I_pivot the lumped bat's MOI about the pivot; cross-checked by e = (v_out + omega z) / v_in with
+  I_pivot the lumped bat's MOI about the pivot (without the mass that selective mass scaling
+  adds to the model); cross-checked by e = (v_out + omega z) / v_in with
   omega the bat's rigid-body angular velocity after the impact (its angular momentum about the
   pivot over I_pivot);
 * BBS = e_A v_pitch + (1 + e_A) v_bat, 25 and 85 mph by default (the ASA slow-pitch constants
@@ -31,10 +32,14 @@ import numpy as np
 from batball.contact.segments import SegmentContact
 from batball.contact.shell_contact import nodal_areas
 from batball.elements.shell_bt import initial_force_state
-from batball.elements.shell_bt_section import HG_THICKNESS, layered_section
-from batball.elements.shell_explicit import lumped_shell_mass, stable_time_step
+from batball.elements.shell_bt_section import HG_THICKNESS, LayeredSection, layered_section
+from batball.elements.shell_explicit import (
+    cell_stable_steps,
+    lumped_shell_mass,
+    selective_mass_scaling,
+)
 from batball.errors import SimulationError, SpecError
-from batball.lab.impact import BallBody, ContactOptions, ball_body
+from batball.lab.impact import BallBody, ContactOptions, ball_body, estimate_first_step
 from batball.lab.props import bat_areal_mass
 from batball.mesh import boundary_faces, hex_volumes
 from batball.mesh.bat import make_bat_mesh
@@ -46,6 +51,7 @@ from batball.solvers.ball_bat import (
     CoupledModel,
     CoupledResult,
     CoupledSolver,
+    moment_of_inertia_z,
 )
 from batball.solvers.explicit import BulkViscosity, HourglassControl
 from batball.specs import BallSpec, BatSpec
@@ -74,7 +80,17 @@ class BbsSetup:
         search_interval: cycles between contact searches.
         prestress: press the insert in by dynamic relaxation before the impact (else its
             initial overlap is ignored and it just touches the barrel).
-        relax_steps: (ramp, settle) cycles of that relaxation.
+        relax_time: (ramp, settle) duration of that relaxation [s]; the cycles are these over
+            the stable step, so a finer mesh gets the same physical time (docs/bbs.md);
+            relax_steps: the fewest (ramp, settle) cycles, whatever the step.
+        contact_reach: the ball-bat contact includes only the bat's outer shells and nodes
+            within this distance of the impact station along the bat [m] (None: the whole
+            bat); the 3-in default is the ball's radius plus about an inch, so no part of the
+            ball can reach beyond it during the impact (docs/bbs.md).
+        mass_scaling: selective mass scaling of the bat's shells (LS-DYNA DT2MS < 0, docs/bbs.md):
+            "barrel" (default) adds mass only to the shells whose step is below the smaller of
+            the barrel's (its parts and the insert) and the ball's, so that those set the step;
+            a float is the target step itself [s] (TSSFAC |DT2MS|); None: no mass added.
     """
 
     speed: float = 110.0 * MPH
@@ -98,7 +114,10 @@ class BbsSetup:
     insert_contact: bool = True
     search_interval: int = 10
     prestress: bool = True
+    relax_time: tuple[float, float] = (0.16e-3, 0.32e-3)
     relax_steps: tuple[int, int] = (400, 800)
+    mass_scaling: float | str | None = "barrel"
+    contact_reach: float | None = 3.0 * IN
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.speed) and 0 < self.speed <= 100.0):
@@ -119,8 +138,18 @@ class BbsSetup:
             raise SpecError("end_time", self.end_time, "0 s < end_time <= 0.02 s")
         if not all(0 <= n <= 100_000 for n in self.relax_steps) or self.relax_steps[0] < 1:
             raise SpecError("relax_steps", self.relax_steps, "(ramp >= 1, settle >= 0) cycles")
+        if not all(0.0 <= t <= 0.01 for t in self.relax_time):
+            raise SpecError("relax_time", self.relax_time, "(ramp, settle) each 0 s .. 0.01 s")
         if not 1 <= self.search_interval <= 100:
             raise SpecError("search_interval", self.search_interval, "an integer 1..100")
+        if self.contact_reach is not None and not 0.5 * IN <= self.contact_reach <= 100 * IN:
+            raise SpecError("contact_reach", self.contact_reach, "0.5 in .. 100 in, or None")
+        scaling = self.mass_scaling
+        if scaling not in (None, "barrel") and (
+            isinstance(scaling, str) or not 0.0 < float(scaling) <= 1e-5
+        ):
+            allowed = '"barrel", a target step 0 s < dt <= 1e-5 s, or None (off)'
+            raise SpecError("mass_scaling", scaling, allowed)
 
 
 @dataclass(frozen=True)
@@ -130,6 +159,9 @@ class BbsModel:
     Attributes:
         coupled: the solver's model; bat_mesh: the bat's shells; ball_cells: (n, 8) ball hexes
             (local ids); impact_x, pivot_x: stations along the bat [m]; z: their distance [m].
+        interference: the insert's radial interference [m]; added_mass: (n_cells,) mass that
+            selective mass scaling added to each shell [kg]; pivot_inertia: the bat's MOI about
+            the pivot without that mass [kg m^2] (the k of the BBCOR is the real bat's).
     """
 
     coupled: CoupledModel
@@ -138,6 +170,8 @@ class BbsModel:
     impact_x: float
     pivot_x: float
     interference: float = 0.0
+    added_mass: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    pivot_inertia: float = 0.0
 
     @property
     def z(self) -> float:
@@ -145,8 +179,11 @@ class BbsModel:
         return self.impact_x - self.pivot_x
 
 
-def bat_part(spec: BatSpec, setup: BbsSetup) -> tuple[BatPart, ShellMesh]:
-    """The bat's shells, layered section, lumped mass, stable step and pivot band."""
+def bat_part(spec: BatSpec, setup: BbsSetup, ball_step: float = np.inf
+             ) -> tuple[BatPart, ShellMesh, np.ndarray]:  # fmt: skip
+    """The bat's shells, layered section, lumped mass, stable step and pivot band, and the mass
+    that selective mass scaling added to each cell, (n_cells,) [kg] (``ball_step``: the ball's
+    stable step [s], TSSFAC applied, which caps the scaling's target)."""
     mesh = make_bat_mesh(spec, circumferential=setup.circumferential,
                          axial_size=setup.axial_size)  # fmt: skip
     layups = [p.layup for p in spec.parts]
@@ -157,10 +194,12 @@ def bat_part(spec: BatSpec, setup: BbsSetup) -> tuple[BatPart, ShellMesh]:
         layups.append(spec.insert.layup)
         cell_laminate[mesh.cell_sets["insert"]] = len(layups) - 1
     section = layered_section([spec.laminate(layup) for layup in layups], cell_laminate)
-    mass = lumped_shell_mass(mesh.points, mesh.cells, section,
-                             areal_mass=bat_areal_mass(spec, mesh))  # fmt: skip
-    step = stable_time_step(mesh.points, mesh.cells, section,
-                            time_step_factor=setup.time_step_scale)  # fmt: skip
+    areal = bat_areal_mass(spec, mesh)
+    added = scaled_areal_mass(mesh, section, setup, ball_step)
+    mass = lumped_shell_mass(mesh.points, mesh.cells, section, areal_mass=areal + added)
+    steps = setup.time_step_scale * cell_stable_steps(mesh.points, mesh.cells, section)
+    m0 = section.areal_mass[section.cell_laminate]
+    step = float(np.min(steps * np.sqrt((m0 + added) / m0)))  # dt ~ sqrt(density)
     pivot = np.array([setup.pivot_from_knob, 0.0, 0.0])
     whole = setup.rigid_bat or setup.fixed_bat
     band = np.flatnonzero(whole | (np.abs(mesh.points[:, 0] - pivot[0]) <= setup.pivot_band))
@@ -169,14 +208,33 @@ def bat_part(spec: BatSpec, setup: BbsSetup) -> tuple[BatPart, ShellMesh]:
                         "a band wide enough to hold a ring of bat nodes")  # fmt: skip
     part = BatPart(mesh.cells.astype(np.int64), section, mass, step, band, pivot, rigid=whole,
                    fixed=setup.fixed_bat)  # fmt: skip
-    return part, mesh
+    return part, mesh, added * quad_areas(mesh.points, mesh.cells)
+
+
+def scaled_areal_mass(mesh: ShellMesh, section: LayeredSection, setup: BbsSetup,
+                      ball_step: float) -> np.ndarray:  # fmt: skip
+    """Areal mass that ``setup.mass_scaling`` adds to each cell, (n_cells,) [kg/m^2]: "barrel"
+    targets the smallest step among the barrel's parts and the insert (where the ball hits,
+    left untouched) or the ball's step if smaller; a float is the target [s]."""
+    if setup.mass_scaling is None or setup.rigid_bat or setup.fixed_bat:
+        return np.zeros(mesh.n_cells)
+    steps = setup.time_step_scale * cell_stable_steps(mesh.points, mesh.cells, section)
+    if setup.mass_scaling == "barrel":
+        names = [n for n in mesh.cell_sets if n.startswith("barrel") or n == "insert"]
+        if not names:
+            raise SpecError("mass_scaling", "barrel", "a bat with parts named barrel*")
+        barrel = np.concatenate([mesh.cell_sets[n] for n in names])
+        target = min(float(steps[barrel].min()), ball_step)
+    else:
+        target = float(setup.mass_scaling)
+    return selective_mass_scaling(mesh.points, mesh.cells, section, target,
+                                  time_step_factor=setup.time_step_scale)  # fmt: skip
 
 
 def place_ball(
-    ball: BallSpec, spec: BatSpec, setup: BbsSetup, n_bat: int
-) -> tuple[BallBody, BallPart, np.ndarray, float]:
-    """The ball body and its nodes placed over the impact point, moving along -y."""
-    body = ball_body(ball, setup.ball_divisions, setup.contact, setup.time_step_scale)
+    body: BallBody, ball: BallSpec, spec: BatSpec, setup: BbsSetup, n_bat: int
+) -> tuple[BallPart, np.ndarray, float]:
+    """The ball's nodes placed over the impact point, moving along -y."""
     impact_x = spec.length - setup.impact_from_cap
     centre = np.array([impact_x, float(spec.outer_radius(impact_x)) + ball.radius + setup.gap,
                        0.0])  # fmt: skip
@@ -196,16 +254,27 @@ def place_ball(
         setup.hourglass.coefficient,
         *((bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)),
     )
-    return body, part, points, impact_x
+    return part, points, impact_x
 
 
 def ball_bat_contacts(
-    body: BallBody, ball_part: BallPart, bat: BatPart, mesh: ShellMesh, setup: BbsSetup
+    body: BallBody,
+    ball_part: BallPart,
+    bat: BatPart,
+    mesh: ShellMesh,
+    setup: BbsSetup,
+    impact_x: float,
 ) -> tuple[SegmentContact, ...]:
     """Ball surface nodes on the bat's outer shells, and the bat's outer nodes on the ball's
-    surface quads (module docs for the stiffness)."""
+    surface quads (module docs for the stiffness), the bat's side within
+    ``setup.contact_reach`` of the impact station ``impact_x`` [m]."""
     offset = ball_part.first_node
     outer_cells = np.setdiff1d(np.arange(mesh.n_cells), mesh.cell_sets.get("insert", []))
+    outer = mesh.point_sets["outer"]
+    if setup.contact_reach is not None:
+        near = np.abs(mesh.points[:, 0] - impact_x) <= setup.contact_reach
+        outer_cells = outer_cells[near[bat.cells[outer_cells]].any(axis=1)]
+        outer = outer[near[outer]]
     half = 0.5 * bat.section.hourglass_moduli[bat.section.cell_laminate, HG_THICKNESS]
     margin = 0.05 * IN
     ball_on_bat = SegmentContact(
@@ -228,7 +297,6 @@ def ball_bat_contacts(
         * float(ball_part.material_constants[0, 0])
         * np.mean(face_area / ball_part.volume0[owner])
     )
-    outer = mesh.point_sets["outer"]
     node_half = np.zeros(mesh.n_points)
     np.maximum.at(node_half, bat.cells[outer_cells].ravel(), np.repeat(half[outer_cells], 4))
     areas = nodal_areas(mesh.points, bat.cells[outer_cells])
@@ -283,18 +351,25 @@ def insert_barrel_contact(spec: BatSpec, bat: BatPart, mesh: ShellMesh,
 
 def build_bbs_model(spec: BatSpec, ball: BallSpec, setup: BbsSetup) -> BbsModel:
     """The bat on its pivot and the ball about to hit it (module docs)."""
-    bat, mesh = bat_part(spec, setup)
-    body, ball_part, ball_points, impact_x = place_ball(ball, spec, setup, mesh.n_points)
+    body = ball_body(ball, setup.ball_divisions, setup.contact, setup.time_step_scale)
+    ball_step = setup.time_step_scale * estimate_first_step(body.mesh, body.constants,
+                                                            body.density)  # fmt: skip
+    bat, mesh, added_mass = bat_part(spec, setup, ball_step)
+    ball_part, ball_points, impact_x = place_ball(body, ball, spec, setup, mesh.n_points)
     points = np.vstack([mesh.points, ball_points])
     velocity = np.zeros_like(points)
     velocity[mesh.n_points :, 1] = -setup.speed
-    contacts = ball_bat_contacts(body, ball_part, bat, mesh, setup)
+    contacts = ball_bat_contacts(body, ball_part, bat, mesh, setup, impact_x)
     if spec.insert is not None and setup.insert_contact and not bat.rigid:
         contacts = (*contacts, insert_barrel_contact(spec, bat, mesh, setup))
     coupled = CoupledModel(points, velocity, ball_part, bat, contacts, 2,
                            initial_force_state(bat.section))  # fmt: skip
     interference = spec.insert.interference if spec.insert is not None else 0.0
-    return BbsModel(coupled, mesh, body.mesh.cells, impact_x, setup.pivot_from_knob, interference)
+    unscaled = lumped_shell_mass(mesh.points, mesh.cells, bat.section,
+                                 areal_mass=bat_areal_mass(spec, mesh))  # fmt: skip
+    moi = moment_of_inertia_z(mesh.points, unscaled, bat.pivot)
+    return BbsModel(coupled, mesh, body.mesh.cells, impact_x, setup.pivot_from_knob, interference,
+                    added_mass, moi)  # fmt: skip
 
 
 def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
@@ -307,13 +382,22 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
     inserts = model.coupled.contacts[model.coupled.ball_contacts :]
     ratio, pressure = float("nan"), float("nan")
     if setup.prestress and inserts:
-        ratio = solver.relax_bat(interference=model.interference,
-                                 ramp_steps=setup.relax_steps[0],
-                                 settle_steps=setup.relax_steps[1])  # fmt: skip
+        ramp, settle = relaxation_cycles(setup, model.coupled.bat.stable_step)
+        ratio = solver.relax_bat(interference=model.interference, ramp_steps=ramp,
+                                 settle_steps=settle)  # fmt: skip
         pressure = insert_pressure(model, solver.points)
     result = solver.run()
     result.prestress_kinetic_ratio, result.interference_pressure = ratio, pressure
     return result
+
+
+def relaxation_cycles(setup: BbsSetup, step: float) -> tuple[int, int]:
+    """(ramp, settle) cycles of the pre-stress: ``setup.relax_time`` over the bat's ``step``
+    [s], at least ``setup.relax_steps``. The fit settles in physical time (the full-size mesh
+    reached 76 psi of 92 in 1,200 cycles at 1.2e-7 s, 92.5 psi in 2,400 at 2.1e-7 s: docs/bbs.md),
+    so a finer mesh needs proportionally more cycles."""
+    return (max(setup.relax_steps[0], int(np.ceil(setup.relax_time[0] / step))),
+            max(setup.relax_steps[1], int(np.ceil(setup.relax_time[1] / step))))  # fmt: skip
 
 
 def insert_pressure(model: BbsModel, points: np.ndarray) -> float:
@@ -339,7 +423,7 @@ class BbsMeasures:
             > 0 back along the flight line).
         collision_efficiency: e_A = rebound / inbound.
         k: m_ball z^2 / I_pivot; bbcor: e_A (1 + k) + k; bbcor_from_bat: (rebound + omega z) /
-            inbound with the bat's rigid-body angular velocity omega.
+            inbound with omega the bat's angular momentum about the pivot over I_pivot.
         bbs: e_A v_pitch + (1 + e_A) v_bat [m/s].
         peak_force: largest ball-bat contact force after a 0.02-ms moving average [N] (a lab load
             cell's bandwidth; the raw history has one-cycle spikes where single ball nodes first
@@ -349,7 +433,9 @@ class BbsMeasures:
         angular_momentum_change: |L_end - L_0| / |L_0| about the pivot axis.
         rebound_drift: change of the ball's speed over the last ``separation_time`` [m/s] (0 when
             steady).
-        pivot_inertia: [kg m^2]; z: pivot to impact [m]; ball_mass: [kg].
+        pivot_inertia: the bat's MOI about the pivot [kg m^2]; model_pivot_inertia: the
+            model's, with the mass that selective mass scaling added [kg m^2]; z: pivot to
+            impact [m]; ball_mass: [kg].
     """
 
     inbound_speed: float
@@ -366,6 +452,7 @@ class BbsMeasures:
     angular_momentum_change: float
     rebound_drift: float
     pivot_inertia: float
+    model_pivot_inertia: float
     z: float
     ball_mass: float
 
@@ -397,8 +484,9 @@ def measure_bbs(model: BbsModel, result: CoupledResult, setup: BbsSetup) -> BbsM
         )
     inbound, rebound = -vy[0], vy[-1]
     e_a = rebound / inbound
-    k = result.ball_mass * model.z**2 / result.pivot_inertia
-    omega = result.column("bat_omega_rad_s")[-1]
+    k = result.ball_mass * model.z**2 / model.pivot_inertia
+    # the bat's angular momentum over the real bat's MOI (the model's carries the added mass)
+    omega = result.column("bat_omega_rad_s")[-1] * result.pivot_inertia / model.pivot_inertia
     after = t >= t[-1] - setup.separation_time
     momentum = result.column("angular_momentum")
     kinetic0 = result.column("kinetic_j")[0]
@@ -416,7 +504,8 @@ def measure_bbs(model: BbsModel, result: CoupledResult, setup: BbsSetup) -> BbsM
         energy_balance_error=float(np.abs(result.column("balance_error_j")).max() / kinetic0),
         angular_momentum_change=float(abs(momentum[-1] - momentum[0]) / abs(momentum[0])),
         rebound_drift=float(np.ptp(vy[after])),
-        pivot_inertia=result.pivot_inertia,
+        pivot_inertia=model.pivot_inertia,
+        model_pivot_inertia=result.pivot_inertia,
         z=model.z,
         ball_mass=result.ball_mass,
     )

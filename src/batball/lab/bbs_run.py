@@ -69,11 +69,19 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         "angular_momentum_change": m.angular_momentum_change,
         "rebound_drift_mph": m.rebound_drift / MPH,
         "pivot_moi_oz_in2": m.pivot_inertia / OZ_IN2,
+        "model_pivot_moi_oz_in2": m.model_pivot_inertia / OZ_IN2,
+        "mass_scaling": setup.mass_scaling,
+        "added_mass_g": float(result.model.added_mass.sum() * 1e3),
+        "added_mass_percent": float(
+            100 * result.model.added_mass.sum() / result.model.coupled.bat.mass[:, 0].sum()
+        ),
+        "time_step_s": float(result.model.coupled.bat.stable_step),
         "pivot_to_impact_in": m.z / IN,
         "rigid_bat": setup.rigid_bat,
         "prestress": setup.prestress,
-        "prestress_kinetic_ratio": run.prestress_kinetic_ratio,
-        "interference_pressure_psi": run.interference_pressure / PSI,
+        # None without a pre-stress (a rigid bat, no insert): JSON has no NaN
+        "prestress_kinetic_ratio": finite_or_none(run.prestress_kinetic_ratio),
+        "interference_pressure_psi": finite_or_none(run.interference_pressure / PSI),
         "n_shells": n_shells,
         "n_hexes": n_hexes,
         "n_steps": run.n_steps,
@@ -83,6 +91,11 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         "element_cycles_per_second": (n_shells + n_hexes) * run.n_steps / run.wall_seconds,
         "phase_seconds": run.phase_seconds,
     }
+
+
+def finite_or_none(value: float) -> float | None:
+    """``value``, or None where it is NaN or infinite (a quantity the run did not have)."""
+    return float(value) if np.isfinite(value) else None
 
 
 def write_history(folder: Path, result: BbsResult) -> None:

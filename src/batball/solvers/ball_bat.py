@@ -215,7 +215,7 @@ def central_difference(
     moving: np.ndarray,
 ) -> None:
     """v += h f / m on every dof, then x += dt v on the translations of ``moving`` nodes
-    (all but the pivot band, which :func:`pivot_band_update` moves); (n, 6) arrays."""
+    (all but the pivot band, held by the relaxation); (n, 6) arrays."""
     for n in range(forces.shape[0]):
         for k in range(forces.shape[1]):
             velocity[n, k] += half * forces[n, k] / mass[n, k]
@@ -225,61 +225,117 @@ def central_difference(
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def pivot_band_update(
+def advance_ball(
     forces: np.ndarray,
-    band: np.ndarray,
-    points: np.ndarray,
+    contact: np.ndarray,
+    mass: np.ndarray,
     velocity: np.ndarray,
+    points: np.ndarray,
+    pivot: np.ndarray,
+    half: float,
+    dt_old: float,
+    dt_new: float,
+    out: np.ndarray,
+) -> None:
+    """The ball's central-difference update with its bookkeeping in one pass, (n, 3) arrays:
+    v += h (f + f_c) / m, x += dt_new v; ``out`` (7,) receives the contact work on the ball
+    (f_c times the increment (v_old dt_old + v_new dt_new) / 2, the displacement over the step
+    centred on this cycle), the kinetic energy, the sum of m v (3), the angular momentum about
+    the z axis through ``pivot`` (at the new positions) and the contact force along y [N]."""
+    out[:] = 0.0
+    for n in range(forces.shape[0]):
+        m = mass[n]
+        for k in range(3):
+            v_old = velocity[n, k]
+            v = v_old + half * (forces[n, k] + contact[n, k]) / m
+            velocity[n, k] = v
+            out[0] += contact[n, k] * 0.5 * (v_old * dt_old + v * dt_new)
+            out[1] += 0.5 * m * v * v
+            out[2 + k] += m * v
+            points[n, k] += dt_new * v
+        rx = points[n, 0] - pivot[0]
+        ry = points[n, 1] - pivot[1]
+        out[5] += m * (rx * velocity[n, 1] - ry * velocity[n, 0])
+        out[6] += contact[n, 1]
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def advance_bat(
+    forces: np.ndarray,
+    contact: np.ndarray,
+    mass: np.ndarray,
+    velocity: np.ndarray,
+    points: np.ndarray,
+    moving: np.ndarray,
+    band: np.ndarray,
     pivot: np.ndarray,
     inertia: float,
     omega: np.ndarray,
     half: float,
+    dt_old: float,
     dt_new: float,
+    out: np.ndarray,
 ) -> None:
-    """Advance the rigid band about the z axis through ``pivot`` (module docs): omega[0] +=
-    h T / I, then each band node moves with omega e_z x r (rotation rate omega e_z)."""
+    """The bat's update (free nodes by central differences, the pivot band as a rigid body
+    turning about the axis) with its bookkeeping in one pass: ``forces`` (n, 6) internal forces
+    on the nodes, ``contact`` (n, 3), ``moving`` (n,) False on the band; ``out`` (4,) receives
+    the work of the internal forces and of the contact forces over the step centred on this
+    cycle, the kinetic energy and the angular momentum about the pivot axis (at the new
+    positions). The band: omega += h T / I_band with T the torque of its nodes' forces about the
+    axis, then every band node moves with omega e_z x r (its rotation rate omega e_z)."""
+    out[:] = 0.0
     torque = 0.0
     for i in range(band.shape[0]):
         n = band[i]
         rx = points[n, 0] - pivot[0]
         ry = points[n, 1] - pivot[1]
-        torque += rx * forces[n, 1] - ry * forces[n, 0] + forces[n, 5]
+        fx, fy = forces[n, 0] + contact[n, 0], forces[n, 1] + contact[n, 1]
+        torque += rx * fy - ry * fx + forces[n, 5]
     omega[0] += half * torque / inertia
     w = omega[0]
-    for i in range(band.shape[0]):
-        n = band[i]
+    for n in range(forces.shape[0]):
         rx = points[n, 0] - pivot[0]
         ry = points[n, 1] - pivot[1]
-        velocity[n, 0] = -w * ry
-        velocity[n, 1] = w * rx
-        velocity[n, 2] = 0.0
-        velocity[n, 3] = 0.0
-        velocity[n, 4] = 0.0
-        velocity[n, 5] = w
-        points[n, 0] += dt_new * velocity[n, 0]
-        points[n, 1] += dt_new * velocity[n, 1]
+        for k in range(6):
+            v_old = velocity[n, k]
+            f_contact = contact[n, k] if k < 3 else 0.0
+            if moving[n]:
+                v = v_old + half * (forces[n, k] + f_contact) / mass[n, k]
+            elif k == 0:
+                v = -w * ry
+            elif k == 1:
+                v = w * rx
+            else:
+                v = w if k == 5 else 0.0
+            velocity[n, k] = v
+            increment = 0.5 * (v_old * dt_old + v * dt_new)
+            out[0] += forces[n, k] * increment
+            out[1] += f_contact * increment
+            out[2] += 0.5 * mass[n, k] * v * v
+        for k in range(3):  # a band node's z velocity is 0
+            points[n, k] += dt_new * velocity[n, k]
+        rx = points[n, 0] - pivot[0]
+        ry = points[n, 1] - pivot[1]
+        out[3] += mass[n, 0] * (rx * velocity[n, 1] - ry * velocity[n, 0])
+        out[3] += mass[n, 5] * velocity[n, 5]
 
 
 def band_inertia(model: CoupledModel) -> float:
-    """MOI of the band about the pivot axis, sum m (dx^2 + dy^2) + I_zz [kg m^2]."""
-    band, bat = model.bat.band, model.bat
-    r = model.points[band, :2] - bat.pivot[:2]
-    return float(np.sum(bat.mass[band, 0] * np.sum(r * r, axis=1)) + np.sum(bat.mass[band, 5]))
+    """MOI of the band about the pivot axis [kg m^2]."""
+    band = model.bat.band
+    return moment_of_inertia_z(model.points[band], model.bat.mass[band], model.bat.pivot)
 
 
 def pivot_inertia(model: CoupledModel) -> float:
     """MOI of the whole (lumped) bat about the pivot axis [kg m^2]."""
-    n, bat = model.n_bat, model.bat
-    r = model.points[:n, :2] - bat.pivot[:2]
-    return float(np.sum(bat.mass[:, 0] * np.sum(r * r, axis=1)) + np.sum(bat.mass[:, 5]))
+    return moment_of_inertia_z(model.points[: model.n_bat], model.bat.mass, model.bat.pivot)
 
 
-def angular_momentum(points: np.ndarray, velocity: np.ndarray, mass: np.ndarray,
-                     pivot: np.ndarray) -> float:  # fmt: skip
-    """Angular momentum about the pivot axis of nodes with (n, 6) velocity and mass."""
+def moment_of_inertia_z(points: np.ndarray, mass: np.ndarray, pivot: np.ndarray) -> float:
+    """MOI about the z axis through ``pivot`` (3,) of lumped shell masses (n, 6) [kg, kg m^2] at
+    ``points`` (n, 3) [m]: sum m (dx^2 + dy^2) + I_zz [kg m^2]."""
     r = points[:, :2] - pivot[:2]
-    spin = np.sum(mass[:, 5] * velocity[:, 5])
-    return float(np.sum(mass[:, 0] * (r[:, 0] * velocity[:, 1] - r[:, 1] * velocity[:, 0])) + spin)
+    return float(np.sum(mass[:, 0] * np.sum(r * r, axis=1)) + np.sum(mass[:, 5]))
 
 
 @dataclass
@@ -324,7 +380,9 @@ class CoupledSolver:
         self.ball_velocity = np.ascontiguousarray(model.velocity[n_bat:])
         self.bat_velocity = np.zeros((n_bat, 6))
         self.bat_velocity[:, :3] = model.velocity[:n_bat]
-        self.ball_mass = np.repeat(model.ball.mass[:, None], 3, axis=1)
+        self.ball_total_mass = float(model.ball.mass.sum())
+        self.ball_sums = np.zeros(7)  # advance_ball's bookkeeping
+        self.bat_sums = np.zeros(4)  # advance_bat's
         self.ball_state = BallState.initial(model.ball)
         self.shell_state = model.shell_state
         self.ball_forces = np.zeros_like(self.ball_velocity)
@@ -345,7 +403,7 @@ class CoupledSolver:
             ("contact_search", "ball_forces", "bat_forces", "contact_forces", "update"), 0.0
         )
         total_mass = np.sum(model.ball.mass) + np.sum(model.bat.mass[:, 0])
-        self.kinetic0 = 0.5 * float(np.sum(self.ball_mass * self.ball_velocity**2)
+        self.kinetic0 = 0.5 * float(np.sum(model.ball.mass[:, None] * self.ball_velocity**2)
                                     + np.sum(model.bat.mass * self.bat_velocity**2))  # fmt: skip
         self.total_mass = float(total_mass)
 
@@ -446,25 +504,17 @@ class CoupledSolver:
         ball_touching, insert_touching = self.contact()
         clock = time.perf_counter()
         self.energies[:3] += self.ball_state.energy_increments.sum(axis=0)
-        bat_internal = self.bat_forces.copy() if not m.bat.rigid else None
-        self.ball_forces += self.contact_forces[n_bat:]
-        self.bat_forces[:, :3] += self.contact_forces[:n_bat]
-        before = (self.ball_velocity.copy(), self.bat_velocity.copy())
         half = 0.5 * (dt_old + dt_new)
-        central_difference(self.ball_forces, self.ball_mass, self.ball_velocity, half, dt_new,
-                           self.ball_points, self.ball_moving)  # fmt: skip
-        central_difference(self.bat_forces, m.bat.mass, self.bat_velocity, half, dt_new,
-                           self.bat_points, self.bat_moving)  # fmt: skip
-        pivot_band_update(self.bat_forces, m.bat.band, self.bat_points, self.bat_velocity,
-                          m.bat.pivot, self.band_inertia, self.omega, half, dt_new)  # fmt: skip
-        ball_step = 0.5 * (before[0] * dt_old + self.ball_velocity * dt_new)
-        bat_step = 0.5 * (before[1] * dt_old + self.bat_velocity * dt_new)
-        if bat_internal is not None:
-            self.energies[3] -= float(np.sum(bat_internal * bat_step))
-        self.energies[4] -= float(
-            np.sum(self.contact_forces[n_bat:] * ball_step)
-            + np.sum(self.contact_forces[:n_bat] * bat_step[:, :3])
-        )
+        ball, bat = self.ball_sums, self.bat_sums
+        advance_ball(self.ball_forces, self.contact_forces[n_bat:], m.ball.mass,
+                     self.ball_velocity, self.ball_points, m.bat.pivot, half, dt_old, dt_new,
+                     ball)  # fmt: skip
+        advance_bat(self.bat_forces, self.contact_forces[:n_bat], m.bat.mass, self.bat_velocity,
+                    self.bat_points, self.bat_moving, m.bat.band, m.bat.pivot,
+                    self.band_inertia, self.omega, half, dt_old, dt_new, bat)  # fmt: skip
+        if not m.bat.rigid:
+            self.energies[3] -= bat[0]
+        self.energies[4] -= ball[0] + bat[1]
         self.write_row(row, ball_touching, insert_touching)
         self.time += dt_new
         self.dt = dt_new
@@ -473,21 +523,13 @@ class CoupledSolver:
         return ball_touching > 0
 
     def write_row(self, row: np.ndarray, ball_touching: int, insert_touching: int) -> None:
-        """The history row of this cycle (HISTORY_COLUMNS)."""
-        m, n_bat = self.model, self.model.n_bat
-        ball_mass = m.ball.mass
-        com = ball_mass @ self.ball_velocity / ball_mass.sum()
-        ball6 = np.zeros((ball_mass.size, 6))
-        ball6[:, :3] = self.ball_velocity
-        mass6 = np.repeat(ball_mass[:, None], 6, axis=1)
-        bat_l = angular_momentum(self.bat_points, self.bat_velocity, m.bat.mass, m.bat.pivot)
-        total_l = bat_l + angular_momentum(self.ball_points, ball6, mass6, m.bat.pivot)
-        kinetic = 0.5 * float(np.sum(self.ball_mass * self.ball_velocity**2)
-                              + np.sum(m.bat.mass * self.bat_velocity**2))  # fmt: skip
+        """The history row of this cycle (HISTORY_COLUMNS) from the sums of the update."""
+        ball, bat = self.ball_sums, self.bat_sums
+        kinetic = ball[1] + bat[2]
         balance = kinetic + self.energies.sum() - self.kinetic0
-        row[:] = (self.time, self.contact_forces[n_bat:, 1].sum(), *com,
-                  bat_l / self.pivot_inertia, total_l, kinetic, *self.energies, balance,
-                  ball_touching, insert_touching)  # fmt: skip
+        row[:] = (self.time, ball[6], *(ball[2:5] / self.ball_total_mass),
+                  bat[3] / self.pivot_inertia, bat[3] + ball[5], kinetic, *self.energies,
+                  balance, ball_touching, insert_touching)  # fmt: skip
         if (
             not np.isfinite(balance)
             or abs(balance) > self.controls.max_energy_error * self.kinetic0

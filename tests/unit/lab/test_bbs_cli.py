@@ -55,3 +55,20 @@ def test_bad_input_names_the_field(tmp_path: Path, capsys, option: str, value: s
 def test_setup_rejects_a_coarse_ball_mesh() -> None:
     with pytest.raises(SpecError, match="ball_divisions"):
         BbsSetup(ball_divisions=1)
+
+
+def test_rigid_bat_summary_is_valid_json_without_a_prestress(tmp_path: Path, capsys) -> None:
+    # a rigid bat has no insert contact, so no fit pressure: None in the JSON, not NaN
+    args = ["bbs", "--rigid-bat", *COARSE, "--json", "--runs-dir", str(tmp_path)]
+    code, out, _ = run_cli(args, capsys)
+    assert code == 0
+    s = json.loads(out)
+    assert s["interference_pressure_psi"] is None
+    assert s["added_mass_g"] == 0.0  # a rigid bat is not mass-scaled
+    assert s["model_pivot_moi_oz_in2"] == pytest.approx(s["pivot_moi_oz_in2"], rel=1e-12)
+
+
+@pytest.mark.parametrize("value", ["all", 0.0, 1.0])
+def test_setup_rejects_a_bad_mass_scaling(value: object) -> None:
+    with pytest.raises(SpecError, match="mass_scaling"):
+        BbsSetup(mass_scaling=value)  # type: ignore[arg-type]
