@@ -253,6 +253,8 @@ def place_ball(
         setup.hourglass.type,
         setup.hourglass.coefficient,
         *((bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)),
+        foam=body.foam,
+        reference=points.copy() if body.foam is not None else None,
     )
     return part, points, impact_x
 

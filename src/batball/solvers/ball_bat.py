@@ -34,9 +34,11 @@ import numpy as np
 from batball.contact.segments import SegmentContact
 from batball.elements.hex8 import compute_hex8_forces
 from batball.elements.hex8_block import pack_history
+from batball.elements.hex8_foam import N_FOAM_HISTORY, compute_foam_forces
 from batball.elements.shell_bt import HOURGLASS_RATIO, ShellForceState, bt_force_kernel
 from batball.elements.shell_bt_section import LayeredSection
 from batball.errors import SimulationError
+from batball.materials.foam import FoamTable
 from batball.numerics import FASTMATH
 
 IN = 0.0254  # m, for messages
@@ -51,6 +53,9 @@ class BallPart:
         material_constants: (1, 2 N + 2) kernel constants; density: [kg/m^3].
         volume0: (n_cells,) [m^3]; mass: (n_ball_points,) lumped [kg].
         hourglass_type, hourglass_coefficient, q1, q2: element controls.
+        foam: a foam ball's packed material (MAT_057/083, issue 5) and reference: its nodes'
+            undeformed coordinates [m]; None for a viscoelastic ball (``material_constants``
+            are then the hex kernel's; for a foam they are only the contact stand-ins).
     """
 
     cells: np.ndarray
@@ -63,6 +68,8 @@ class BallPart:
     hourglass_coefficient: float
     q1: float
     q2: float
+    foam: FoamTable | None = None
+    reference: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -146,8 +153,17 @@ def ball_internal_forces(
     dt: float,
     forces: np.ndarray,
 ) -> None:
-    """The ball's element forces (hex8 kernel) summed to its nodes: ``forces`` (n_ball, 3) [N]
-    (the force on the nodes, m a = f); also fills ``state``'s stable steps and energy slots."""
+    """The ball's element forces (hex8 kernel, or the foam kernel for a foam ball) summed to its
+    nodes: ``forces`` (n_ball, 3) [N] (the force on the nodes, m a = f); also fills ``state``'s
+    stable steps and energy slots."""
+    if part.foam is not None and part.reference is not None:
+        compute_foam_forces(points, velocities, part.cells, part.reference, dt, part.density,
+                            part.volume0, part.foam.arrays(), state.foam_history, state.hg_state,
+                            part.hourglass_type, part.hourglass_coefficient, part.q1, part.q2,
+                            state.nodal_forces, state.cell_volume, state.cell_dt,
+                            state.energy_increments)  # fmt: skip
+        take_slot_forces(state.nodal_forces, forces)
+        return
     compute_hex8_forces(points, velocities, part.cells, dt, state.cell_material,
                         part.material_constants, np.array([part.density]), state.history,
                         part.hourglass_type, part.hourglass_coefficient, part.q1, part.q2,
@@ -191,6 +207,8 @@ class BallState:
     cell_volume: np.ndarray
     cell_dt: np.ndarray
     energy_increments: np.ndarray
+    foam_history: np.ndarray  # a foam ball's (n_cells, N_FOAM_HISTORY); (0, ...) otherwise
+    hg_state: np.ndarray  # a foam ball's stiffness-form hourglass forces (n_cells, 4, 3) [N]
 
     @classmethod
     def initial(cls, part: BallPart) -> BallState:
@@ -199,9 +217,11 @@ class BallState:
         n_slots = max(1, min(n, nb.get_num_threads()))  # one per thread (compute_hex8_forces)
         n_points = len(part.mass)
         n_terms = part.material_constants.shape[1] // 2 - 1
+        n_foam = n if part.foam is not None else 0
         return cls(np.zeros(n, dtype=np.int64), pack_history(part.volume0, n_terms=n_terms),
                    np.zeros((n_slots, n_points, 3)), np.zeros(n), np.zeros(n),
-                   np.zeros((n_slots, 3)))  # fmt: skip
+                   np.zeros((n_slots, 3)), np.zeros((n_foam, N_FOAM_HISTORY)),
+                   np.zeros((n_foam, 4, 3)))  # fmt: skip
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
