@@ -99,8 +99,8 @@ def add_synthetic_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--no-bbs",
         action="store_true",
-        help="skip the truth's BBS runs (bbs.toml then says so; e.g. a foam truth, which the "
-        "coupled BBS run cannot yet carry)",
+        help="skip the truth's BBS runs (bbs.toml then says so), e.g. to make the impact and "
+        "DMA data quickly",
     )
     add_bbs_run_arguments(p)
 
