@@ -35,6 +35,7 @@ import numpy as np
 from batball.elements.hex8_block import (
     BLOCK,
     N_ROWS,
+    constants_terms,
     copy_history,
     element_block_fb_stiffness,
     element_block_fb_stiffness_2,
@@ -86,7 +87,7 @@ def _advance_slot(element_block, stiff, slot, factors, mesh, material, history, 
     points, velocities, cells = mesh
     nodal_forces, cell_volume, cell_dt = outputs[0], outputs[1], outputs[2]
     first, end = slot_cells(slot, nodal_forces.shape[0], cells.shape[0])
-    n_terms = material[1].shape[1] // 2 - 1  # constants: 2 N + 2 columns
+    n_terms = constants_terms(material[1])
     w = np.empty((N_ROWS + 8 * (n_terms - 1)) * BLOCK)
     internal = 0.0
     hourglass = 0.0

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from batball.elements.hex8_geometry import Vector, modal_sums
+from batball.elements.hex8_geometry import Vector, modal_sums, modes_of_components
 from batball.elements.hex8_kinematics import (
     Modes,
     Voigt,
@@ -55,6 +55,12 @@ def history_rows(n_terms: int) -> int:
     return N_CORE_ROWS + N_HOURGLASS_ROWS + 6 * (n_terms - 1)
 
 
+@nb.njit(inline="always")
+def constants_terms(constants: np.ndarray) -> int:
+    """The number of Prony terms N of kernel constants (n_materials, 2 N + 2)."""
+    return constants.shape[1] // 2 - 1
+
+
 def history_terms(history: np.ndarray) -> int:
     """The number of Prony terms a history array (n_blocks, rows * BLOCK) is laid out for."""
     rows, extra = divmod(history.shape[1], BLOCK)
@@ -80,7 +86,7 @@ def pack_history(
     columns = np.zeros((n_blocks * BLOCK, history_rows(n_terms)))
     columns[:n_cells, R_V0 - R_S] = volume0
     if s_inf is not None:
-        columns[:n_cells, R_S - R_S : R_S - R_S + 6] = s_inf
+        columns[:n_cells, 0:6] = s_inf
     if h is not None:
         columns[:n_cells, R_H - R_S : R_H - R_S + 6] = h[:, :6]
         columns[:n_cells, N_CORE_ROWS + N_HOURGLASS_ROWS :] = h[:, 6:]
@@ -199,15 +205,7 @@ def load_modal_sums(w: np.ndarray, row: int, e: int) -> Modes:
     sx = _nodal_modal_sums(w, row, e, 0)
     sy = _nodal_modal_sums(w, row, e, 1)
     sz = _nodal_modal_sums(w, row, e, 2)
-    return (
-        (sx[0], sy[0], sz[0]),
-        (sx[1], sy[1], sz[1]),
-        (sx[2], sy[2], sz[2]),
-        (sx[3], sy[3], sz[3]),
-        (sx[4], sy[4], sz[4]),
-        (sx[5], sy[5], sz[5]),
-        (sx[6], sy[6], sz[6]),
-    )
+    return modes_of_components(sx, sy, sz)
 
 
 # Helpers that take ``w`` are straight-line and every value is computed before the first store:

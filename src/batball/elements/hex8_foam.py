@@ -40,6 +40,7 @@ from batball.elements.hex8_geometry import (
     modal_largest_face_area,
     modal_sums,
     modal_volume_gradient,
+    modes_of_components,
 )
 from batball.elements.hex8_kinematics import (
     advance_prony_term,
@@ -78,15 +79,7 @@ def cell_modal_sums(values: np.ndarray, cell: np.ndarray) -> tuple:
     sx = _component_sums(values, cell, 0)
     sy = _component_sums(values, cell, 1)
     sz = _component_sums(values, cell, 2)
-    return (
-        (sx[0], sy[0], sz[0]),
-        (sx[1], sy[1], sz[1]),
-        (sx[2], sy[2], sz[2]),
-        (sx[3], sy[3], sz[3]),
-        (sx[4], sy[4], sz[4]),
-        (sx[5], sy[5], sz[5]),
-        (sx[6], sy[6], sz[6]),
-    )
+    return modes_of_components(sx, sy, sz)
 
 
 @nb.njit(inline="always")

@@ -204,6 +204,20 @@ def modal_sums(
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
+def modes_of_components(sx: tuple, sy: tuple, sz: tuple) -> tuple:
+    """The modal sums X_1..X_7 as 3-tuples from the x, y and z components' 7-tuples."""
+    return (
+        (sx[0], sy[0], sz[0]),
+        (sx[1], sy[1], sz[1]),
+        (sx[2], sy[2], sz[2]),
+        (sx[3], sy[3], sz[3]),
+        (sx[4], sy[4], sz[4]),
+        (sx[5], sy[5], sz[5]),
+        (sx[6], sy[6], sz[6]),
+    )
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
 def nodal_sums(
     f1: float, f2: float, f3: float, f4: float, f5: float, f6: float, f7: float
 ) -> tuple[float, ...]:

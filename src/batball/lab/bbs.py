@@ -40,7 +40,7 @@ from batball.elements.shell_explicit import (
 )
 from batball.errors import SimulationError, SpecError
 from batball.lab.impact import BallBody, ContactOptions, ball_body, estimate_first_step
-from batball.lab.props import bat_areal_mass
+from batball.lab.props import bat_areal_mass, bat_laminates
 from batball.mesh import boundary_faces, hex_volumes
 from batball.mesh.bat import make_bat_mesh
 from batball.mesh.shell import ShellMesh, quad_areas
@@ -186,14 +186,7 @@ def bat_part(spec: BatSpec, setup: BbsSetup, ball_step: float = np.inf
     stable step [s], TSSFAC applied, which caps the scaling's target)."""
     mesh = make_bat_mesh(spec, circumferential=setup.circumferential,
                          axial_size=setup.axial_size)  # fmt: skip
-    layups = [p.layup for p in spec.parts]
-    cell_laminate = np.full(mesh.n_cells, -1, dtype=np.int64)
-    for k, spec_part in enumerate(spec.parts):
-        cell_laminate[mesh.cell_sets[spec_part.name]] = k
-    if spec.insert is not None:
-        layups.append(spec.insert.layup)
-        cell_laminate[mesh.cell_sets["insert"]] = len(layups) - 1
-    section = layered_section([spec.laminate(layup) for layup in layups], cell_laminate)
+    section = layered_section(*bat_laminates(spec, mesh))
     areal = bat_areal_mass(spec, mesh)
     added = scaled_areal_mass(mesh, section, setup, ball_step)
     mass = lumped_shell_mass(mesh.points, mesh.cells, section, areal_mass=areal + added)

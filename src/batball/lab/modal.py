@@ -48,7 +48,7 @@ from batball.elements.shell_stiffness import (
     shell_section,
 )
 from batball.errors import SpecError
-from batball.lab.props import bat_areal_mass
+from batball.lab.props import bat_areal_mass, bat_laminates
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL, make_bat_mesh
 from batball.mesh.shell import ShellMesh
 from batball.solvers.modal import N_RIGID_BODY_MODES, ModalResult, free_free_modes
@@ -94,14 +94,7 @@ class BatModes:
 
 def bat_section(spec: BatSpec, mesh: ShellMesh) -> ShellSection:
     """Per-cell section of a bat mesh: each part's (and the insert's) laminate plus lumped mass."""
-    layups = [part.layup for part in spec.parts]
-    cell_laminate = np.full(mesh.n_cells, -1, dtype=np.int64)
-    for k, part in enumerate(spec.parts):
-        cell_laminate[mesh.cell_sets[part.name]] = k
-    if spec.insert is not None:
-        layups.append(spec.insert.layup)
-        cell_laminate[mesh.cell_sets["insert"]] = len(layups) - 1
-    laminates = [spec.laminate(layup) for layup in layups]
+    laminates, cell_laminate = bat_laminates(spec, mesh)
     structural = np.array([lam.areal_mass for lam in laminates])[cell_laminate]
     extra = bat_areal_mass(spec, mesh) - structural
     return shell_section(laminates, cell_laminate, extra_areal_mass=extra)

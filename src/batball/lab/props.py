@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from batball.materials.laminate import Laminate
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL, make_bat_mesh
 from batball.mesh.shell import ShellMesh, quad_areas
 from batball.specs.bat import BatSpec
@@ -96,6 +97,19 @@ def shell_mass_properties(
     moi_pivot = float(np.sum(dm * ((x - pivot) ** 2 + y**2)))
     moi_cm = float(np.sum(dm * ((x - centre[0]) ** 2 + (y - centre[1]) ** 2)))
     return MassProperties(mass, float(centre[0]), moi_pivot, moi_cm, pivot)
+
+
+def bat_laminates(spec: BatSpec, mesh: ShellMesh) -> tuple[list[Laminate], np.ndarray]:
+    """Each part's (and the insert's) laminate and the laminate of each quad of a bat mesh:
+    (laminates, cell_laminate (n_cells,) indices into them)."""
+    layups = [part.layup for part in spec.parts]
+    cell_laminate = np.full(mesh.n_cells, -1, dtype=np.int64)
+    for k, part in enumerate(spec.parts):
+        cell_laminate[mesh.cell_sets[part.name]] = k
+    if spec.insert is not None:
+        layups.append(spec.insert.layup)
+        cell_laminate[mesh.cell_sets["insert"]] = len(layups) - 1
+    return [spec.laminate(layup) for layup in layups], cell_laminate
 
 
 def bat_areal_mass(spec: BatSpec, mesh: ShellMesh) -> np.ndarray:

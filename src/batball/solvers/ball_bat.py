@@ -33,7 +33,7 @@ import numpy as np
 
 from batball.contact.segments import SegmentContact
 from batball.elements.hex8 import compute_hex8_forces
-from batball.elements.hex8_block import pack_history
+from batball.elements.hex8_block import constants_terms, pack_history
 from batball.elements.hex8_foam import N_FOAM_HISTORY, compute_foam_forces
 from batball.elements.shell_bt import HOURGLASS_RATIO, ShellForceState, bt_force_kernel
 from batball.elements.shell_bt_section import LayeredSection
@@ -162,13 +162,12 @@ def ball_internal_forces(
                             part.hourglass_type, part.hourglass_coefficient, part.q1, part.q2,
                             state.nodal_forces, state.cell_volume, state.cell_dt,
                             state.energy_increments)  # fmt: skip
-        take_slot_forces(state.nodal_forces, forces)
-        return
-    compute_hex8_forces(points, velocities, part.cells, dt, state.cell_material,
-                        part.material_constants, np.array([part.density]), state.history,
-                        part.hourglass_type, part.hourglass_coefficient, part.q1, part.q2,
-                        state.nodal_forces, state.cell_volume, state.cell_dt,
-                        state.energy_increments)  # fmt: skip
+    else:
+        compute_hex8_forces(points, velocities, part.cells, dt, state.cell_material,
+                            part.material_constants, np.array([part.density]), state.history,
+                            part.hourglass_type, part.hourglass_coefficient, part.q1, part.q2,
+                            state.nodal_forces, state.cell_volume, state.cell_dt,
+                            state.energy_increments)  # fmt: skip
     take_slot_forces(state.nodal_forces, forces)
 
 
@@ -216,7 +215,7 @@ class BallState:
         n = part.cells.shape[0]
         n_slots = max(1, min(n, nb.get_num_threads()))  # one per thread (compute_hex8_forces)
         n_points = len(part.mass)
-        n_terms = part.material_constants.shape[1] // 2 - 1
+        n_terms = constants_terms(part.material_constants)
         n_foam = n if part.foam is not None else 0
         return cls(np.zeros(n, dtype=np.int64), pack_history(part.volume0, n_terms=n_terms),
                    np.zeros((n_slots, n_points, 3)), np.zeros(n), np.zeros(n),

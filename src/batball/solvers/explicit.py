@@ -22,7 +22,7 @@ import numpy as np
 
 from batball.contact.rigid import N_TARGET_PARAMS, RigidCylinder, RigidPlane
 from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces
-from batball.elements.hex8_block import pack_history
+from batball.elements.hex8_block import constants_terms, pack_history
 from batball.elements.hex8_foam import N_FOAM_HISTORY, foam_element_forces
 from batball.errors import SimulationError, SpecError
 from batball.materials.foam import FoamTable
@@ -235,7 +235,7 @@ def initial_state(model: Model, volume0: np.ndarray) -> State:
     """The state at t = 0: undeformed, unstressed, moving with the initial velocity (element
     volumes ``volume0`` [m^3])."""
     n_cells = model.mesh.n_cells
-    n_terms = model.material_constants.shape[1] // 2 - 1
+    n_terms = constants_terms(model.material_constants)
     clock = np.zeros(5)
     clock[[kern.CONTACT_BEGAN, kern.LAST_CONTACT]] = -1.0
     return State(
