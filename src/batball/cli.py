@@ -44,6 +44,13 @@ def add_impact_parser(sub: Any, test: str, help_text: str) -> None:
         default=0.01,
         help="contact-time level as a fraction of the peak force (default 0.01)",
     )
+    p.add_argument(
+        "--precision",
+        choices=("single", "double"),
+        default="single",
+        help="element arithmetic of the ball (default single, as LS-DYNA's default executable; "
+        "results agree with double to about 1e-6, docs/precision.md)",
+    )
     add_store_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=run_impact_command, test=test)
@@ -376,6 +383,7 @@ def impact_setup(args: argparse.Namespace) -> Any:
         bulk_viscosity=BulkViscosity(enabled=not args.no_bulk_viscosity),
         contact=ContactOptions(soft=args.soft),
         contact_threshold=args.contact_threshold,
+        precision=args.precision,
     )
 
 

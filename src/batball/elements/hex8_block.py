@@ -21,6 +21,7 @@ from batball.elements.hex8_kinematics import (
     element_kinematics,
 )
 from batball.elements.hex8_response import element_response
+from batball.elements.vector_math import like
 from batball.materials.viscoelastic import viscoelastic_step_factors
 from batball.numerics import FASTMATH
 
@@ -39,6 +40,9 @@ R_MAT = 74  # 6 material factors, the columns of material_factors()
 R_VOL = 80  # volume [m^3]
 R_DT = 81  # stable step [s]
 N_ROWS = 82
+#: Rows R_X..R_V+23 (node coordinates and velocities): the double staging of a single-precision
+#: block's nodes (:func:`relative_nodes`).
+N_NODE_ROWS = R_V + 24
 # A material with N Prony terms (N > 1) adds rows after N_ROWS: 6 (N - 1) rows of the further
 # terms' h (term-major), then 2 (N - 1) rows of their (decay, scale) factors.
 
@@ -48,6 +52,11 @@ N_ROWS = 82
 # and saving a block's history are then contiguous copies (no transposition).
 N_CORE_ROWS = R_HG - R_S
 N_HOURGLASS_ROWS = R_MAT - R_HG
+
+
+#: The precisions of the element arithmetic, by name: the dtype of the kernel's history and
+#: scratch. "single" is LS-DYNA's default executable; nodes, contact and energies stay double.
+PRECISIONS = {"single": np.float32, "double": np.float64}
 
 
 def history_rows(n_terms: int) -> int:
@@ -77,10 +86,14 @@ def pack_history(
     pressure: np.ndarray | None = None,
     hg_state: np.ndarray | None = None,
     n_terms: int = 1,
+    dtype: type = np.float64,
 ) -> np.ndarray:
     """The block history (n_blocks, rows * BLOCK) of cells with initial volumes ``volume0``
     (n_cells,) [m^3] and the element-wise s_inf (n_cells, 6), h (n_cells, 6 N), pressure
-    (n_cells,) [Pa] and hg_state (n_cells, 4, 3) [N] (zero where not given)."""
+    (n_cells,) [Pa] and hg_state (n_cells, 4, 3) [N] (zero where not given).
+
+    ``dtype`` (np.float64 or np.float32) is the precision of the element arithmetic: the kernel
+    computes each block in the precision of its history (:data:`PRECISIONS`)."""
     n_cells = len(volume0)
     n_blocks = -(-n_cells // BLOCK)
     columns = np.zeros((n_blocks * BLOCK, history_rows(n_terms)))
@@ -95,15 +108,16 @@ def pack_history(
     if hg_state is not None:
         columns[:n_cells, N_CORE_ROWS : N_CORE_ROWS + N_HOURGLASS_ROWS] = hg_state.reshape(-1, 12)
     blocks = columns.reshape(n_blocks, BLOCK, -1).transpose(0, 2, 1)
-    return np.ascontiguousarray(blocks).reshape(n_blocks, -1)
+    return np.ascontiguousarray(blocks, dtype=dtype).reshape(n_blocks, -1)
 
 
 def unpack_history(history: np.ndarray, n_cells: int) -> dict[str, np.ndarray]:
-    """The element-wise arrays of a block history (copies): ``volume0`` (n_cells,) [m^3],
-    ``s_inf`` (n_cells, 6), ``h`` (n_cells, 6 N), ``pressure`` (n_cells,) [Pa] and ``hg_state``
-    (n_cells, 4, 3) [N]."""
+    """The element-wise arrays of a block history (double copies, whatever its precision):
+    ``volume0`` (n_cells,) [m^3], ``s_inf`` (n_cells, 6), ``h`` (n_cells, 6 N), ``pressure``
+    (n_cells,) [Pa] and ``hg_state`` (n_cells, 4, 3) [N]."""
     n_terms = history_terms(history)
     rows = history_rows(n_terms)
+    history = history.astype(np.float64)
     columns = history.reshape(history.shape[0], rows, BLOCK).transpose(0, 2, 1)
     columns = columns.reshape(-1, rows)[:n_cells]
     core = N_CORE_ROWS + N_HOURGLASS_ROWS
@@ -263,9 +277,6 @@ def _load_factors(w, e, first):
     )
 
 
-_NO_HOURGLASS = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
-
-
 @nb.njit(inline="always", fastmath=FASTMATH)
 def _add6(a: Voigt, b: Voigt) -> Voigt:
     """a + b for Voigt 6-tuples."""
@@ -307,25 +318,37 @@ def _make_element_block(fb: bool, stiff: bool, n_terms: int = 1):
 
     @nb.njit(fastmath=FASTMATH, error_model="numpy")
     def element_block(w, n, dt, q1, q2, hg_coefficient):
-        """Advance slots 0..n-1 (SIMD across the slots); the (internal, hg, bulk) work [J]."""
-        internal = 0.0
-        hourglass = 0.0
-        bulk = 0.0
+        """Advance slots 0..n-1 (SIMD across the slots) in the precision of ``w`` (float32 or
+        float64; the controls are rounded to it); the (internal, hg, bulk) work [J].
+
+        The sums are in the precision of ``w`` too: LLVM picks the vector width from the widest
+        type the loop loads, stores or reduces, so one double accumulator would halve the
+        single-precision width."""
+        zero = like(w[0], 0.0)
+        internal = zero
+        hourglass = zero
+        bulk = zero
+        none = (zero, zero, zero)
+        no_hourglass = (none, none, none, none)
+        controls = (
+            like(zero, dt), like(zero, q1), like(zero, q2), like(zero, hg_coefficient)
+        )  # fmt: skip
         for e in range(n):
             x = load_modal_sums(w, R_X, e)
             v = load_modal_sums(w, R_V, e)
-            hg_old = _load_hourglass(w, e) if stiff else _NO_HOURGLASS
+            hg_old = _load_hourglass(w, e) if stiff else no_hourglass
             p_old, v0 = w[at(R_P, e)], w[at(R_V0, e)]
             s_inf, h, trd, dev_work, vmid, g, vol, q, de = element_kinematics(
-                x, v, load6(w, R_S, e), load6(w, R_H, e), _load_factors(w, e, M_TWO_G_INF), dt
-            )
+                x, v, load6(w, R_S, e), load6(w, R_H, e), _load_factors(w, e, M_TWO_G_INF),
+                controls[0],
+            )  # fmt: skip
             h_all = h
             if prony:
                 h_all, prony_work = advance_terms(w, e, q, de, h)
                 dev_work += prony_work
             p, hg, forces, step, work = element_response(
                 x, v, g, s_inf, h_all, hg_old, (vol, v0, trd, vmid, dev_work, p_old),
-                _load_factors(w, e, M_RHO), (dt, q1, q2, hg_coefficient), fb, stiff,
+                _load_factors(w, e, M_RHO), controls, fb, stiff,
             )  # fmt: skip
             _store_element(w, e, s_inf, h, p, forces, vol, step)
             if stiff:
@@ -366,6 +389,23 @@ def gather_nodes(
             for i in range(3):
                 w[at(R_X + 3 * a + i, e)] = points[node, i]
                 w[at(R_V + 3 * a + i, e)] = velocities[node, i]
+
+
+@nb.njit(fastmath=FASTMATH)
+def relative_nodes(w: np.ndarray, nodes: np.ndarray) -> None:
+    """Rows R_X..R_V+23 of ``w`` from those of ``nodes`` (double, filled by
+    :func:`gather_nodes`) less the first node's, subtracted in double and rounded to the
+    precision of ``w``: how the single-precision kernel receives its nodes.
+
+    The kernel uses only the modal sums of modes 1..7, which do not see a common translation or
+    velocity; relative values keep the digits of the element's own shape and deformation rate
+    (a ball at 0.05 m flying at 42 m/s would lose them to its position and speed in float32).
+    The loops run over whole rows of three components so that they vectorise."""
+    for base in (R_X * BLOCK, R_V * BLOCK):
+        for a in range(8):
+            row = base + 3 * BLOCK * a
+            for j in range(3 * BLOCK):
+                w[row + j] = nodes[row + j] - nodes[base + j]
 
 
 @nb.njit

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from batball.elements.vector_math import like
 from batball.numerics import FASTMATH
 
 REFERENCE_CORNERS = np.array(
@@ -265,7 +266,7 @@ def modal_volume_gradient(
     c65, c46, c54 = cross(x6, x5), cross(x4, x6), cross(x5, x4)
     c62, c35, c16 = cross(x6, x2), cross(x3, x5), cross(x1, x6)
     c43, c51, c24 = cross(x4, x3), cross(x5, x1), cross(x2, x4)
-    main, side = 1.0 / 64.0, 1.0 / 192.0
+    main, side = like(x1[0], 1.0 / 64.0), like(x1[0], 1.0 / 192.0)
     volume = main * dot(x1, c23) + side * (dot(x5, c16) + dot(x4, c62) + dot(x4, c35))
     return (
         _combine(c23, c65, main, side),
@@ -281,7 +282,8 @@ def modal_volume_gradient(
 @nb.njit(inline="always", fastmath=FASTMATH)
 def _face_area_squared(a: Vector, b: Vector, c: Vector, d: Vector, sign: float) -> float:
     """|(a + sign b) x (c + sign d)|^2 for 3-tuples: (16 x the area of one face)^2."""
-    n = cross(_combine(a, b, 1.0, sign), _combine(c, d, 1.0, sign))
+    one = like(a[0], 1.0)
+    n = cross(_combine(a, b, one, sign), _combine(c, d, one, sign))
     return dot(n, n)
 
 
@@ -294,12 +296,13 @@ def modal_largest_face_area(
     On the face zeta = -/+1, x = (1/8) (X0 -/+ X3 + (X1 -/+ X5) xi + (X2 -/+ X4) eta + ...), so its
     area is |(X1 -/+ X5) x (X2 -/+ X4)| / 16; the faces xi = -/+1 and eta = -/+1 alike.
     """
+    plus, minus = like(x1[0], 1.0), like(x1[0], -1.0)
     largest = max(
-        _face_area_squared(x1, x5, x2, x4, -1.0),
-        _face_area_squared(x1, x5, x2, x4, 1.0),
-        _face_area_squared(x2, x6, x3, x5, -1.0),
-        _face_area_squared(x2, x6, x3, x5, 1.0),
-        _face_area_squared(x1, x6, x3, x4, -1.0),
-        _face_area_squared(x1, x6, x3, x4, 1.0),
+        _face_area_squared(x1, x5, x2, x4, minus),
+        _face_area_squared(x1, x5, x2, x4, plus),
+        _face_area_squared(x2, x6, x3, x5, minus),
+        _face_area_squared(x2, x6, x3, x5, plus),
+        _face_area_squared(x1, x6, x3, x4, minus),
+        _face_area_squared(x1, x6, x3, x4, plus),
     )
-    return np.sqrt(largest) * (1.0 / 16.0)
+    return np.sqrt(largest) * like(largest, 1.0 / 16.0)

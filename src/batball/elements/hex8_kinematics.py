@@ -10,6 +10,7 @@ from __future__ import annotations
 import numba as nb
 
 from batball.elements.hex8_geometry import Vector, modal_volume_gradient
+from batball.elements.vector_math import like
 from batball.materials.viscoelastic import advance_viscoelastic_component
 from batball.numerics import FASTMATH
 
@@ -41,7 +42,7 @@ def velocity_gradient(v: Modes, g: Modes, volume: float) -> Tensor:
         v: six modal velocity sums V_k (3-tuples) [m/s]; g: six G_k = dV/dX_k [m^2];
         volume: V [m^3].
     """
-    inv = 1.0 / volume
+    inv = like(volume, 1.0) / volume
     return (
         _contract(v, g, 0, 0) * inv,
         _contract(v, g, 0, 1) * inv,
@@ -61,22 +62,23 @@ def cayley_rotation(w01: float, w12: float, w20: float, dt: float) -> Tensor:
 
     With S = W dt / 2 (skew) and theta^2 = |axial(S)|^2 this is Q = I + 2 (S + S^2) / (1 + theta^2).
     """
-    a = 0.5 * dt * w01  # S[0,1]
-    b = 0.5 * dt * w12  # S[1,2]
-    c = 0.5 * dt * w20  # S[2,0]
+    one, half = like(dt, 1.0), like(dt, 0.5)
+    a = half * dt * w01  # S[0,1]
+    b = half * dt * w12  # S[1,2]
+    c = half * dt * w20  # S[2,0]
     theta2 = a * a + b * b + c * c
-    scale = 2.0 / (1.0 + theta2)
+    scale = like(dt, 2.0) / (one + theta2)
     # S = [[0, a, -c], [-a, 0, b], [c, -b, 0]];  S^2 = w w^T - theta2 I with w = (b, c, a)
     return (
-        1.0 + scale * (b * b - theta2),
+        one + scale * (b * b - theta2),
         scale * (a + b * c),
         scale * (-c + a * b),
         scale * (-a + b * c),
-        1.0 + scale * (c * c - theta2),
+        one + scale * (c * c - theta2),
         scale * (b + c * a),
         scale * (c + a * b),
         scale * (-b + c * a),
-        1.0 + scale * (a * a - theta2),
+        one + scale * (a * a - theta2),
     )
 
 
@@ -115,14 +117,15 @@ def rotate_voigt(s: Voigt, q: Tensor) -> Voigt:
 def deviatoric_increment(lg: Tensor, dt: float) -> tuple[Voigt, float]:
     """dev(D) dt (Voigt 6-tuple, tensor shear components) and tr D [1/s] from L (9-tuple)."""
     trd = lg[0] + lg[4] + lg[8]
-    third = trd / 3.0
+    third = trd / like(trd, 3.0)
+    half = like(dt, 0.5)
     de = (
         (lg[0] - third) * dt,
         (lg[4] - third) * dt,
         (lg[8] - third) * dt,
-        0.5 * (lg[1] + lg[3]) * dt,
-        0.5 * (lg[5] + lg[7]) * dt,
-        0.5 * (lg[6] + lg[2]) * dt,
+        half * (lg[1] + lg[3]) * dt,
+        half * (lg[5] + lg[7]) * dt,
+        half * (lg[6] + lg[2]) * dt,
     )
     return de, trd
 
@@ -132,7 +135,7 @@ def half_stress_work(s_inf: Voigt, h: Voigt, de: Voigt) -> float:
     """(1/2) (s_inf + h) : de for Voigt 6-tuples (shear counted twice) [Pa]."""
     normal = (s_inf[0] + h[0]) * de[0] + (s_inf[1] + h[1]) * de[1] + (s_inf[2] + h[2]) * de[2]
     shear = (s_inf[3] + h[3]) * de[3] + (s_inf[4] + h[4]) * de[4] + (s_inf[5] + h[5]) * de[5]
-    return 0.5 * normal + shear
+    return like(normal, 0.5) * normal + shear
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
@@ -162,7 +165,7 @@ def midstep_velocity_gradient(x: Modes, v: Modes, dt: float) -> tuple[Tensor, fl
     Args:
         x, v: modal sums (3-tuples, modes 1..6 at least) of x^n [m] and v^(n-1/2) [m/s].
     """
-    s = -0.5 * dt  # the modal sums are linear in the node values
+    s = like(dt, -0.5) * dt  # the modal sums are linear in the node values
     g1, g2, g3, g4, g5, g6, volume = modal_volume_gradient(
         _step_back(x[0], v[0], s),
         _step_back(x[1], v[1], s),
@@ -189,7 +192,8 @@ def deviator_update(
         (s_inf + h) : dev(D) dt [J/m^3], the rotation Q (9-tuple) and dev(D) dt (Voigt), which
         further Prony terms reuse.
     """
-    q = cayley_rotation(0.5 * (lg[1] - lg[3]), 0.5 * (lg[5] - lg[7]), 0.5 * (lg[6] - lg[2]), dt)
+    half = like(dt, 0.5)
+    q = cayley_rotation(half * (lg[1] - lg[3]), half * (lg[5] - lg[7]), half * (lg[6] - lg[2]), dt)
     s_rotated = rotate_voigt(s_inf, q)
     h_rotated = rotate_voigt(h, q)
     de, trd = deviatoric_increment(lg, dt)
@@ -237,5 +241,6 @@ def advance_prony_term(
         decay * r[4] + scale * de[4],
         decay * r[5] + scale * de[5],
     )
-    zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    z = like(decay, 0.0)
+    zero = (z, z, z, z, z, z)
     return new, half_stress_work(zero, r, de) + half_stress_work(zero, new, de)

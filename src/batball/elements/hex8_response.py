@@ -15,7 +15,7 @@ import numpy as np
 
 from batball.elements.hex8_geometry import dot, modal_largest_face_area, nodal_sums
 from batball.elements.hex8_kinematics import Modes, Tensor, Voigt, velocity_gradient
-from batball.elements.vector_math import cbrt, log
+from batball.elements.vector_math import cbrt, like, log
 from batball.numerics import FASTMATH
 
 
@@ -39,7 +39,8 @@ def pressure_and_viscosity(
     c = np.sqrt(modulus / rho)
     p = bulk_modulus * log(ratio)
     length = cbrt(vol)
-    bulk_q = rho * length * (q1 * length * trd * trd - q2 * c * trd) if trd < 0.0 else 0.0
+    zero = like(vol, 0.0)
+    bulk_q = rho * length * (q1 * length * trd * trd - q2 * c * trd) if trd < zero else zero
     return rho, c, p, bulk_q, length
 
 
@@ -49,8 +50,8 @@ def _hourglass_coefficient(g, vol, rho, c, length, hg_coefficient, stiff):
     if stiff:
         bb = dot(g[0], g[0]) + dot(g[1], g[1]) + dot(g[2], g[2])
         bb += dot(g[3], g[3]) + dot(g[4], g[4]) + dot(g[5], g[5])
-        return hg_coefficient * rho * c * c * (8.0 * bb) / (3.0 * vol)
-    return hg_coefficient * rho * length * length * c / 4.0
+        return hg_coefficient * rho * c * c * (like(bb, 8.0) * bb) / (like(vol, 3.0) * vol)
+    return hg_coefficient * rho * length * length * c / like(c, 4.0)
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
@@ -77,7 +78,8 @@ def _mode_force(old, rate, coefficient, dt, stiff):
             old[1] + coefficient * dt * rate[1],
             old[2] + coefficient * dt * rate[2],
         )
-        mean = (0.5 * (old[0] + new[0]), 0.5 * (old[1] + new[1]), 0.5 * (old[2] + new[2]))
+        half = like(dt, 0.5)
+        mean = (half * (old[0] + new[0]), half * (old[1] + new[1]), half * (old[2] + new[2]))
         return new, dot(mean, rate) * dt
     force = (coefficient * rate[0], coefficient * rate[1], coefficient * rate[2])
     return force, dot(force, rate) * dt
@@ -128,7 +130,7 @@ def element_stress(
     sxy, syz, szx = s_inf[3] + h[3], s_inf[4] + h[4], s_inf[5] + h[5]
     if not fb:
         return (sxx, sxy, szx, sxy, syy, syz, szx, syz, szz)
-    inv = 1.0 / vol
+    inv = like(vol, 1.0) / vol
     return (
         sxx - _moment(hg, x, 0, 0, inv),
         sxy - _moment(hg, x, 0, 1, inv),
@@ -160,15 +162,16 @@ def nodal_forces(sigma: Tensor, g: Modes, hg: Modes, i: int, ok: bool) -> tuple[
         _modal_force(sigma, g[5], i) - hg[2][i],
         -hg[3][i],
     )
+    zero = like(f[0], 0.0)
     return (
-        f[0] if ok else 0.0,
-        f[1] if ok else 0.0,
-        f[2] if ok else 0.0,
-        f[3] if ok else 0.0,
-        f[4] if ok else 0.0,
-        f[5] if ok else 0.0,
-        f[6] if ok else 0.0,
-        f[7] if ok else 0.0,
+        f[0] if ok else zero,
+        f[1] if ok else zero,
+        f[2] if ok else zero,
+        f[3] if ok else zero,
+        f[4] if ok else zero,
+        f[5] if ok else zero,
+        f[6] if ok else zero,
+        f[7] if ok else zero,
     )
 
 
@@ -179,9 +182,10 @@ def stable_step(x: Modes, vol: float, trd: float, c: float, q1: float, q2: float
     Q = Q2 c + Q1 L_e |tr D| under compression (LS-DYNA Theory Manual, time step control).
     """
     le = vol / modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])
-    qv = q2 * c + q1 * le * abs(trd) if trd < 0.0 else 0.0
+    zero = like(vol, 0.0)
+    qv = q2 * c + q1 * le * abs(trd) if trd < zero else zero
     step = le / (qv + np.sqrt(qv * qv + c * c))
-    return step if vol > 0.0 else 0.0
+    return step if vol > zero else zero
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
@@ -240,15 +244,16 @@ def element_response(
         g, v, x, hg_old, vol, rho, c, length, dt, hg_coefficient, fb, stiff
     )
     sigma = element_stress(s_inf, h, p + bulk_q, hg, x, vol, fb)
-    ok = vol > 0.0
+    zero = like(vol, 0.0)
+    ok = vol > zero
     forces = (
         nodal_forces(sigma, g, hg, 0, ok),
         nodal_forces(sigma, g, hg, 1, ok),
         nodal_forces(sigma, g, hg, 2, ok),
     )
-    internal = (dev_work - 0.5 * (p_old + p) * trd * dt) * vmid
+    internal = (dev_work - like(vol, 0.5) * (p_old + p) * trd * dt) * vmid
     bulk = -bulk_q * trd * dt * vmid
-    work = (internal if ok else 0.0, hg_work if ok else 0.0, bulk if ok else 0.0)
+    work = (internal if ok else zero, hg_work if ok else zero, bulk if ok else zero)
     hg_kept = _keep_if(hg, hg_old, ok and stiff)  # only the stiffness form has a state
     step = stable_step(x, vol, trd, c, q1, q2)
     return p if ok else p_old, hg_kept, forces, step, work

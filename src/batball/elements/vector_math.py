@@ -1,4 +1,6 @@
-"""ln x and x^(1/3) as straight-line arithmetic, so that loops calling them vectorise.
+"""ln x and x^(1/3) as straight-line arithmetic, so that loops calling them vectorise, and
+``like``, which writes a literal in the float type of a value so that the element arithmetic
+compiles unchanged in single or double precision.
 
 Numba's ``np.log`` and ``np.cbrt`` are calls into the C library, which LLVM cannot vectorise
 without a vector math library; these versions split x into exponent and mantissa with bit
@@ -15,7 +17,7 @@ import numba as nb
 import numpy as np
 from llvmlite import ir
 from numba import types
-from numba.extending import intrinsic
+from numba.extending import intrinsic, overload
 
 from batball.numerics import FASTMATH
 
@@ -64,6 +66,26 @@ float_bits = cast("Callable[[float], int]", _float_bits)
 bits_float = cast("Callable[[int], float]", _bits_float)
 
 
+def like(x: float, value: float) -> float:
+    """``value`` in the float type of ``x`` (float32 or float64) inside Numba code.
+
+    Numba types a Python float literal as float64 and float32 op float64 as float64, so a
+    literal in single-precision arithmetic would promote the whole expression; written
+    ``like(x, 0.5)`` it stays single (LLVM folds the conversion). Plain Python: ``value``.
+    """
+    return value
+
+
+@overload(like, inline="always")
+def _like_overload(x, value):  # noqa: ANN001, ANN202
+    float_type = x if isinstance(x, types.Float) else types.float64
+
+    def impl(x, value):  # noqa: ANN001, ANN202
+        return float_type(value)
+
+    return impl
+
+
 @nb.njit(inline="always", fastmath=FASTMATH)
 def _log_special(x: float) -> float:
     """ln x where x is not positive and finite: NaN, -inf at 0, +inf at +inf."""
@@ -74,6 +96,13 @@ def _log_special(x: float) -> float:
 
 @nb.njit(inline="always", fastmath=FASTMATH)
 def log(x: float) -> float:
+    """Natural logarithm, vectorisable; a float32 argument is computed in double and rounded
+    (:func:`log64`)."""
+    return like(x, log64(float(x)))
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def log64(x: float) -> float:
     """Natural logarithm after fdlibm's e_log.c, within 2 ulp under fast-math; vectorisable.
 
     x = 2^k m with m in [sqrt(2)/2, sqrt(2)); ln x = k ln 2 + ln(1 + f), f = m - 1.
@@ -115,6 +144,13 @@ def _cbrt_reduced(m: float) -> float:
 
 @nb.njit(inline="always", fastmath=FASTMATH)
 def cbrt(x: float) -> float:
+    """Real cube root, vectorisable; a float32 argument is computed in double and rounded
+    (:func:`cbrt64`)."""
+    return like(x, cbrt64(float(x)))
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def cbrt64(x: float) -> float:
     """Real cube root, within about 1 ulp; vectorisable.
 
     |x| = 2^(3q + r) m with r in {0, 1, 2}, so cbrt|x| = 2^q (2^r m)^(1/3) with 2^r m in [1, 8).

@@ -19,6 +19,7 @@ from batball.contact.rigid import (
     nodal_stiffness,
     segment_stiffness,
 )
+from batball.elements.hex8_block import PRECISIONS
 from batball.errors import SimulationError, SpecError
 from batball.lab.measures import ImpactMeasures, measure_impact
 from batball.materials.foam import FoamTable
@@ -71,6 +72,9 @@ class ImpactSetup:
         gap: initial clearance between ball and target [m].
         end_time: longest run [s]; separation_time: run on this long after contact ends [s].
         contact_threshold: contact-time threshold, fraction of the peak force.
+        precision: the hex kernel's element arithmetic, "single" (the default, as LS-DYNA's
+            default executable) or "double" (``ExplicitControls.precision``; the two agree to
+            about 1e-6 in CCOR, docs/precision.md).
     """
 
     test: str
@@ -86,6 +90,7 @@ class ImpactSetup:
     end_time: float = 4e-3
     separation_time: float = 0.1e-3
     contact_threshold: float = 0.01
+    precision: str = "single"
 
     def __post_init__(self) -> None:
         if self.test not in IMPACT_TARGETS:
@@ -94,6 +99,8 @@ class ImpactSetup:
             raise SpecError("speed", f"{self.speed / MPH:.4g} mph", "0 mph < speed <= 223 mph")
         if not 2 <= self.divisions <= 40:
             raise SpecError("divisions", self.divisions, "an integer 2..40 (12 = seed mesh)")
+        if self.precision not in PRECISIONS:
+            raise SpecError("precision", self.precision, " or ".join(map(repr, PRECISIONS)))
 
 
 @dataclass(frozen=True)
@@ -220,6 +227,7 @@ def run_impact(
         hourglass=setup.hourglass,
         bulk_viscosity=setup.bulk_viscosity,
         separation_time=setup.separation_time,
+        precision=setup.precision,
     )
     run, load_cell, measures = run_impact_model(
         model, controls, setup.contact_threshold, progress=progress

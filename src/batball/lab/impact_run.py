@@ -58,6 +58,7 @@ def summarise(result: ImpactResult, wall_seconds: float) -> dict[str, Any]:
         "peak_force_lbf": m.peak_force / LBF,
         "contact_time_ms": m.contact_time * 1e3,
         "contact_time_threshold_fraction_of_peak": setup.contact_threshold,
+        "element_precision": setup.precision,
         "time_of_peak_ms": m.time_of_peak * 1e3,
         "inbound_mph": m.inbound_speed / MPH,
         "rebound_mph": m.rebound_speed / MPH,

@@ -22,7 +22,7 @@ import numpy as np
 
 from batball.contact.rigid import N_TARGET_PARAMS, RigidCylinder, RigidPlane
 from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces
-from batball.elements.hex8_block import constants_terms, pack_history
+from batball.elements.hex8_block import PRECISIONS, constants_terms, pack_history
 from batball.elements.hex8_foam import N_FOAM_HISTORY, foam_element_forces
 from batball.errors import SimulationError, SpecError
 from batball.materials.foam import FoamTable
@@ -80,6 +80,10 @@ class ExplicitControls:
         min_step_ratio: stop if the step falls below this fraction of the first step.
         mass_damping: mass-proportional damping coefficient c [1/s] (the force -c m v on every
             node; 0 = none). Dynamic relaxation uses about twice the lowest circular frequency.
+        precision: "double" or "single", the element arithmetic of the viscoelastic (MAT_006,
+            Prony) hex kernel (``hex8_block.PRECISIONS``; LS-DYNA's default executable is
+            single). Nodes, contact, time integration and energy sums stay double; foam balls
+            run their own kernel in double.
         energy_floor: the smallest energy [J] the balance check compares against, for runs that
             start at rest (the reference is the larger of the initial kinetic energy and the
             external work done by the targets): set it to a small fraction of the work the test
@@ -97,8 +101,11 @@ class ExplicitControls:
     min_step_ratio: float = 1e-3
     mass_damping: float = 0.0
     energy_floor: float = 1e-9
+    precision: str = "double"
 
     def __post_init__(self) -> None:
+        if self.precision not in PRECISIONS:
+            raise SpecError("precision", self.precision, " or ".join(map(repr, PRECISIONS)))
         if not self.end_time > 0:
             raise SpecError("end_time", self.end_time, "a positive time")
         if not 0 < self.time_step_scale <= 1:
@@ -231,9 +238,9 @@ ENERGY_COLUMNS = (
 BALANCE = ENERGY_COLUMNS.index("balance_error")
 
 
-def initial_state(model: Model, volume0: np.ndarray) -> State:
+def initial_state(model: Model, volume0: np.ndarray, precision: str = "double") -> State:
     """The state at t = 0: undeformed, unstressed, moving with the initial velocity (element
-    volumes ``volume0`` [m^3])."""
+    volumes ``volume0`` [m^3]; the hex kernel's history in ``precision``)."""
     n_cells = model.mesh.n_cells
     n_terms = constants_terms(model.material_constants)
     clock = np.zeros(5)
@@ -243,7 +250,7 @@ def initial_state(model: Model, volume0: np.ndarray) -> State:
         counters=np.zeros(2, dtype=np.int64),
         points=model.mesh.points.copy(),
         velocities=model.initial_velocity.copy(),
-        history=pack_history(volume0, n_terms=n_terms),
+        history=pack_history(volume0, n_terms=n_terms, dtype=PRECISIONS[precision]),
         hg_state=np.zeros((n_cells if model.foam else 0, 4, 3)),
         energies=np.zeros(kern.N_ENERGIES),
         foam_history=np.zeros((n_cells if model.foam else 0, N_FOAM_HISTORY)),
@@ -347,7 +354,7 @@ class ExplicitSolver:
         self.model = model
         self.controls = controls
         self.work = _Workspace(model, controls)
-        self.state = initial_state(model, self.work.volume0)
+        self.state = initial_state(model, self.work.volume0, controls.precision)
         self.phase_seconds = {"element_forces": 0.0, "rest_of_cycle": 0.0}
         self.kinetic0 = float(0.5 * np.sum(self.work.mass[:, None] * model.initial_velocity**2))
         self.total_mass = float(self.work.mass.sum())

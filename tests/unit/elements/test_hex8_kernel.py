@@ -159,7 +159,10 @@ def distorted_model(seed: int) -> dict:
     }  # fmt: skip
 
 
-def run_kernel(model: dict, hg_type: int, qh: float, q1: float, q2: float, n_chunks: int) -> dict:
+def run_kernel(
+    model: dict, hg_type: int, qh: float, q1: float, q2: float, n_chunks: int,
+    dtype: type = np.float64,
+) -> dict:  # fmt: skip
     m = {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in model.items()}
     n_cells = m["cells"].shape[0]
     n_points = m["points"].shape[0]
@@ -167,14 +170,16 @@ def run_kernel(model: dict, hg_type: int, qh: float, q1: float, q2: float, n_chu
            "dt": np.zeros(n_cells), "energy": np.zeros((n_chunks, 3))}  # fmt: skip
     constants = np.array([[x.bulk, x.g0, x.g_inf, x.beta] for x in MATERIALS])
     densities = np.array([x.density for x in MATERIALS])
-    history = pack_history(m["volume0"], m["s_inf"], m["h"], m["pressure"], m["hg_state"])
+    history = pack_history(
+        m["volume0"], m["s_inf"], m["h"], m["pressure"], m["hg_state"], dtype=dtype
+    )
     compute_hex8_forces(
         m["points"], m["velocities"], m["cells"], m["dt"], m["cell_material"], constants,
         densities, history, hg_type, qh, q1, q2, out["slots"], out["volume"], out["dt"],
         out["energy"],
     )  # fmt: skip
     h = unpack_history(history, n_cells)
-    assert np.all(h["volume0"] == m["volume0"])
+    assert np.all(h["volume0"] == m["volume0"].astype(dtype))
     return out | {"forces": out["slots"].sum(axis=0), "s_inf": h["s_inf"], "h": h["h"],
                   "pressure": h["pressure"], "hg": h["hg_state"],
                   "energy": out["energy"].sum(axis=0)}  # fmt: skip
@@ -220,6 +225,24 @@ def test_kernel_matches_the_per_element_reference(hg_type: int) -> None:
     assert np.all(want["energy"] != 0.0)
 
 
+@pytest.mark.parametrize("hg_type", [1, 2, 4])
+def test_single_precision_kernel_matches_the_reference_to_float32_round_off(hg_type: int) -> None:
+    # float32 has eps = 2**-24 = 6e-8. Volumes, steps and the rotated stresses come from a few
+    # dozen operations on relative coordinates: 1e-6 (16 ulp). The pressure K ln(V0/V) divides
+    # the volume's relative error by |ln(V0/V)| = ln 1.02 here (the model's V0 = 1.02 |V|), and
+    # the forces carry it: 1e-6 / ln 1.02 = 5e-5. The internal work sums terms of both signs:
+    # rtol 1e-4. Measured over seeds 1-6: 2e-7, 1.1e-5, 7e-6 and 1.5e-5.
+    model = distorted_model(seed=hg_type)
+    got = run_kernel(model, hg_type, qh=0.1, q1=1.5, q2=0.06, n_chunks=3, dtype=np.float32)
+    want = run_reference(model, hg_type, 0.1, 1.5, 0.06)
+    for key in ("volume", "dt", "s_inf", "h", "hg"):
+        assert_close(got[key], want[key], rel=1e-6)
+    for key in ("pressure", "forces"):
+        assert_close(got[key], want[key], rel=1e-6 / np.log(1.02))
+    np.testing.assert_allclose(got["energy"], want["energy"], rtol=1e-4)
+    assert got["volume"][7] < 0.0 and got["dt"][7] == 0.0  # the inverted cell, as in double
+
+
 def test_inverted_element_gets_no_forces_step_or_work() -> None:
     model = distorted_model(seed=9)
     got = run_kernel(model, 4, qh=0.1, q1=1.5, q2=0.06, n_chunks=2)
@@ -261,3 +284,17 @@ def test_element_loop_is_simd_across_elements() -> None:
     asm = element_block_viscous.inspect_asm(element_block_viscous.signatures[0])
     packed = re.findall(r"\tv?(?:add|sub|mul|div|f[n]?m(?:add|sub)\d*)pd\s", asm)
     assert len(packed) > 400
+
+
+@pytest.mark.skipif(platform.machine() not in ("x86_64", "AMD64"), reason="reads x86 assembly")
+def test_single_precision_element_loop_is_packed_single() -> None:
+    # single precision pays only if the loop is packed-single and as wide as double's in lanes
+    # x 2: one double load, store or sum in the loop would make LLVM choose the double width
+    w = np.ones(N_ROWS * BLOCK, dtype=np.float32)
+    element_block_viscous(w, BLOCK, 1e-7, 1.5, 0.06, 0.1)
+    signature = next(s for s in element_block_viscous.signatures if str(s[0].dtype) == "float32")
+    asm = element_block_viscous.inspect_asm(signature)
+    single = re.findall(r"\tv?(?:add|sub|mul|div|f[n]?m(?:add|sub)\d*)ps\s", asm)
+    double = re.findall(r"\tv?(?:add|sub|mul|div|f[n]?m(?:add|sub)\d*)pd\s", asm)
+    assert len(single) > 400
+    assert len(double) < len(single) / 4  # only ln and the cube root run in double
