@@ -4,7 +4,9 @@ Runs the whole test (mesh, model, explicit run to separation, measurements) once
 Numba kernels, then times it with 1 thread (the baseline in the same run) and with every thread,
 and prints wall time and hex element-cycles per second for each. Usage:
 
-    python benchmarks/bench_ccor.py [--divisions 12] [--repeats 3]
+    python benchmarks/bench_ccor.py [--divisions 12] [--repeats 3] [--precision single]
+
+``--precision both`` alternates single and double element arithmetic (the A/B of docs/precision.md).
 """
 
 from __future__ import annotations
@@ -21,8 +23,8 @@ from batball.lab.impact import ImpactSetup, run_impact
 from batball.specs import load_ball_spec
 numba.set_num_threads({threads})
 ball = load_ball_spec("type1")
-setup = ImpactSetup(test="ccor", speed=95 * 0.44704, divisions={divisions})
-run_impact(ball, ImpactSetup(test="ccor", speed=95 * 0.44704, divisions=3))  # compile
+setup = ImpactSetup(test="ccor", speed=95 * 0.44704, divisions={divisions}, precision="{precision}")
+run_impact(ball, ImpactSetup(test="ccor", speed=95 * 0.44704, divisions=3, precision="{precision}"))
 walls, solver = [], []
 for _ in range({repeats}):
     start = time.perf_counter()
@@ -35,8 +37,8 @@ print(json.dumps(dict(walls=walls, solver=solver, n_cells=result.mesh.n_cells,
 """
 
 
-def measure(threads: int, divisions: int, repeats: int) -> dict:
-    code = CHILD.format(threads=threads, divisions=divisions, repeats=repeats)
+def measure(threads: int, divisions: int, repeats: int, precision: str) -> dict:
+    code = CHILD.format(threads=threads, divisions=divisions, repeats=repeats, precision=precision)
     out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -45,18 +47,22 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--divisions", type=int, default=12)
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--precision", choices=("single", "double", "both"), default="single")
+    parser.add_argument("--threads", type=int, nargs="*", help="thread counts (default 1 and all)")
     args = parser.parse_args()
     import numba
 
-    for threads in sorted({1, numba.config.NUMBA_NUM_THREADS}):
-        r = measure(threads, args.divisions, args.repeats)
+    precisions = ("single", "double") if args.precision == "both" else (args.precision,)
+    runs = [(t, p) for t in args.threads or sorted({1, numba.config.NUMBA_NUM_THREADS})
+            for p in precisions]  # fmt: skip
+    for threads, precision in runs:
+        r = measure(threads, args.divisions, args.repeats, precision)
         wall, solver = statistics.median(r["walls"]), statistics.median(r["solver"])
         rate = r["n_cells"] * r["n_steps"] / solver
-        print(f"threads {threads}: {r['n_cells']} hexes x {r['n_steps']} cycles; wall "
-              f"{wall:.2f} s (median of {args.repeats}), solver {solver:.2f} s, "
-              f"{rate / 1e6:.1f} M element-cycles/s; CCOR {r['ccor']:.4f}")
+        print(f"{precision}, threads {threads}: {r['n_cells']} hexes x {r['n_steps']} cycles; "
+              f"wall {wall:.2f} s (median of {args.repeats}), solver {solver:.2f} s, "
+              f"{rate / 1e6:.1f} M element-cycles/s; CCOR {r['ccor']:.4f}")  # fmt: skip
         print("  phases (s, last run):", {k: round(v, 2) for k, v in r["phases"].items()})
-
 
 if __name__ == "__main__":
     main()
