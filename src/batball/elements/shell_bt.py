@@ -81,7 +81,13 @@ R_RATE = 58  # 6 membrane and curvature rates [1/s, 1/(m s)]
 R_RES = 64  # 6 resultants N [N/m] and M [N]
 R_SHEAR = 70  # 2 transverse shear forces Q [N/m] (state)
 R_HOURGLASS = 72  # 5 generalised hourglass stresses (state)
-N_ROWS = 77  # then 3 rows per active layer: sigma_xx, sigma_yy, sigma_xy [Pa] (3 k + i)
+N_ROWS = 77
+# The layer stresses live in a second scratch, one vector of 3 GROUP rows per group of GROUP
+# layers (sigma_xx, sigma_yy, sigma_xy [Pa] of layer j of the group in its rows 3 j + i): the
+# layer loop runs a group's layers as straight-line code at constant rows, over all BLOCK slots
+# (a loop over a runtime layer index, or over n < BLOCK slots, is not vectorised: LLVM cannot
+# then prove that the rows do not overlap nor drop Numba's negative-index checks).
+GROUP = 5
 
 Vec3 = tuple[float, float, float]
 
@@ -242,43 +248,78 @@ def block_kinematics(w: np.ndarray, n: int, dt: float, shear: tuple[float, float
         store3(w, R_HOURGLASS, e, (hg0, hg1, hg2))
         w[at(R_HOURGLASS + 3, e)] = hg3
         w[at(R_HOURGLASS + 4, e)] = hg4
+        store3(w, R_RES, e, (0.0, 0.0, 0.0))  # for the layer groups' sums
+        store3(w, R_RES + 3, e, (0.0, 0.0, 0.0))
+
+
+Layer = tuple[float, float, float, float, float, float, float, float, float]
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def layer_stiffness_of(stiffness: np.ndarray, k: int) -> Layer:
+    """Qbar of layer k, row-major, as a 9-tuple [Pa]."""
+    q = stiffness[k]
+    return (q[0, 0], q[0, 1], q[0, 2], q[1, 0], q[1, 1], q[1, 2], q[2, 0], q[2, 1], q[2, 2])
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def add_layer(s: np.ndarray, row: int, e: int, r: tuple, q: Layer, z: float, t: float,
+              dt: float, f: Vec3, m: Vec3) -> tuple[Vec3, Vec3, Vec3]:  # fmt: skip
+    """One layer of slot e: its stress (rows row..row+2 of ``s``) advanced by
+    Qbar (d + z kappa) dt, and the resultants ``f`` (N) and ``m`` (M) with its share added.
+
+    Args:
+        r: the membrane and curvature rates (6).
+        q: Qbar [Pa]; z: the layer's height [m]; t: its thickness [m].
+
+    Returns:
+        The new stress, N [N/m] and M [N].
+    """
+    d0, d1, d2 = r[0] + z * r[3], r[1] + z * r[4], r[2] + z * r[5]
+    s0 = s[at(row, e)] + (q[0] * d0 + q[1] * d1 + q[2] * d2) * dt
+    s1 = s[at(row + 1, e)] + (q[3] * d0 + q[4] * d1 + q[5] * d2) * dt
+    s2 = s[at(row + 2, e)] + (q[6] * d0 + q[7] * d1 + q[8] * d2) * dt
+    zt = z * t
+    return ((s0, s1, s2), (f[0] + t * s0, f[1] + t * s1, f[2] + t * s2),
+            (m[0] + zt * s0, m[1] + zt * s1, m[2] + zt * s2))  # fmt: skip
 
 
 @nb.njit(fastmath=FASTMATH, error_model="numpy")
-def block_layers(w: np.ndarray, n: int, dt: float, stiffness: np.ndarray, z: np.ndarray,
-                 thickness: np.ndarray, n_active: int) -> None:  # fmt: skip
-    """Advance the layer stresses of slots 0..n-1 by Qbar_k (d + z_k kappa) dt and sum their
-    resultants N = sum t_k sigma_k [N/m], M = sum z_k t_k sigma_k [N] (layer by layer, SIMD
-    across the slots: the layer's constants are the block's scalars).
+def block_layer_group(w: np.ndarray, s: np.ndarray, dt: float, stiffness: np.ndarray,
+                      z: np.ndarray, thickness: np.ndarray, first: int) -> None:  # fmt: skip
+    """Advance layers first..first+GROUP-1 of all BLOCK slots (their stresses in ``s``) and add
+    their shares t_k sigma_k and z_k t_k sigma_k to the resultants N [N/m], M [N] (rows R_RES),
+    SIMD across the slots (straight-line, every value computed before the first store).
 
     Args:
-        stiffness, z, thickness: the block's laminate's Qbar_k (n_layers, 3, 3) [Pa], z_k [m]
-            and t_k [m].
-        n_active: the layers to run: the ones after them are padding (zero thickness and
-            stiffness), whose stress stays zero and adds nothing.
+        w: the block scratch; s: the group's stress scratch.
+        dt: time step [s].
+        stiffness, z, thickness: the block's laminate's Qbar_k (n, 3, 3) [Pa], z_k [m] and
+            t_k [m], padded with zero layers to whole groups.
+        first: the group's first layer.
     """
-    for e in range(n):
-        store3(w, R_RES, e, (0.0, 0.0, 0.0))
-        store3(w, R_RES + 3, e, (0.0, 0.0, 0.0))
-    for k in range(n_active):
-        q00, q01, q02 = stiffness[k, 0, 0], stiffness[k, 0, 1], stiffness[k, 0, 2]
-        q10, q11, q12 = stiffness[k, 1, 0], stiffness[k, 1, 1], stiffness[k, 1, 2]
-        q20, q21, q22 = stiffness[k, 2, 0], stiffness[k, 2, 1], stiffness[k, 2, 2]
-        zk, tk = z[k], thickness[k]
-        zt = zk * tk
-        row = N_ROWS + 3 * k
-        for e in range(n):
-            d0 = w[at(R_RATE, e)] + zk * w[at(R_RATE + 3, e)]
-            d1 = w[at(R_RATE + 1, e)] + zk * w[at(R_RATE + 4, e)]
-            d2 = w[at(R_RATE + 2, e)] + zk * w[at(R_RATE + 5, e)]
-            s0 = w[at(row, e)] + (q00 * d0 + q01 * d1 + q02 * d2) * dt
-            s1 = w[at(row + 1, e)] + (q10 * d0 + q11 * d1 + q12 * d2) * dt
-            s2 = w[at(row + 2, e)] + (q20 * d0 + q21 * d1 + q22 * d2) * dt
-            force, moment = load3(w, R_RES, e), load3(w, R_RES + 3, e)
-            store3(w, row, e, (s0, s1, s2))
-            store3(w, R_RES, e, (force[0] + tk * s0, force[1] + tk * s1, force[2] + tk * s2))
-            store3(w, R_RES + 3, e, (moment[0] + zt * s0, moment[1] + zt * s1,
-                                     moment[2] + zt * s2))  # fmt: skip
+    q0, q1 = layer_stiffness_of(stiffness, first), layer_stiffness_of(stiffness, first + 1)
+    q2, q3 = layer_stiffness_of(stiffness, first + 2), layer_stiffness_of(stiffness, first + 3)
+    q4 = layer_stiffness_of(stiffness, first + 4)
+    z0, z1, z2, z3, z4 = z[first], z[first + 1], z[first + 2], z[first + 3], z[first + 4]
+    t0, t1, t2 = thickness[first], thickness[first + 1], thickness[first + 2]
+    t3, t4 = thickness[first + 3], thickness[first + 4]
+    for e in range(BLOCK):
+        rm, rk = load3(w, R_RATE, e), load3(w, R_RATE + 3, e)
+        r = (rm[0], rm[1], rm[2], rk[0], rk[1], rk[2])
+        f, m = load3(w, R_RES, e), load3(w, R_RES + 3, e)
+        a0, f, m = add_layer(s, 0, e, r, q0, z0, t0, dt, f, m)
+        a1, f, m = add_layer(s, 3, e, r, q1, z1, t1, dt, f, m)
+        a2, f, m = add_layer(s, 6, e, r, q2, z2, t2, dt, f, m)
+        a3, f, m = add_layer(s, 9, e, r, q3, z3, t3, dt, f, m)
+        a4, f, m = add_layer(s, 12, e, r, q4, z4, t4, dt, f, m)
+        store3(s, 0, e, a0)
+        store3(s, 3, e, a1)
+        store3(s, 6, e, a2)
+        store3(s, 9, e, a3)
+        store3(s, 12, e, a4)
+        store3(w, R_RES, e, f)
+        store3(w, R_RES + 3, e, m)
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
@@ -327,10 +368,12 @@ def block_forces(w: np.ndarray, n: int) -> None:
 
 
 @nb.njit
-def gather_block(w: np.ndarray, start: int, n: int, n_active: int, points: np.ndarray,
-                 velocity: np.ndarray, cells: np.ndarray, layer_stress: np.ndarray,
-                 shear_force: np.ndarray, hourglass: np.ndarray) -> None:  # fmt: skip
-    """The node coordinates and velocities and the stresses of cells start..start+n-1."""
+def gather_block(w: np.ndarray, sig: np.ndarray, start: int, n: int, n_active: int,
+                 points: np.ndarray, velocity: np.ndarray, cells: np.ndarray,
+                 layer_stress: np.ndarray, shear_force: np.ndarray,
+                 hourglass: np.ndarray) -> None:  # fmt: skip
+    """The node coordinates and velocities and the stresses of cells start..start+n-1 (the
+    first ``n_active`` layers' into the group scratch ``sig``, (n_groups, 3 GROUP BLOCK))."""
     for e in range(n):
         c = start + e
         for a in range(4):
@@ -344,13 +387,14 @@ def gather_block(w: np.ndarray, start: int, n: int, n_active: int, points: np.nd
         for i in range(5):
             w[at(R_HOURGLASS + i, e)] = hourglass[c, i]
         for k in range(n_active):
+            group, j = divmod(k, GROUP)
             for i in range(3):
-                w[at(N_ROWS + 3 * k + i, e)] = layer_stress[c, k, i]
+                sig[group, at(3 * j + i, e)] = layer_stress[c, k, i]
 
 
 @nb.njit
-def scatter_block(w: np.ndarray, start: int, n: int, n_active: int, layer_stress: np.ndarray,
-                  shear_force: np.ndarray, hourglass: np.ndarray,
+def scatter_block(w: np.ndarray, sig: np.ndarray, start: int, n: int, n_active: int,
+                  layer_stress: np.ndarray, shear_force: np.ndarray, hourglass: np.ndarray,
                   forces: np.ndarray) -> None:  # fmt: skip
     """The stresses and nodal forces of cells start..start+n-1 back to the cell arrays."""
     for e in range(n):
@@ -360,8 +404,9 @@ def scatter_block(w: np.ndarray, start: int, n: int, n_active: int, layer_stress
         for i in range(5):
             hourglass[c, i] = w[at(R_HOURGLASS + i, e)]
         for k in range(n_active):
+            group, j = divmod(k, GROUP)
             for i in range(3):
-                layer_stress[c, k, i] = w[at(N_ROWS + 3 * k + i, e)]
+                layer_stress[c, k, i] = sig[group, at(3 * j + i, e)]
         for a in range(4):
             for i in range(6):
                 forces[c, a, i] = w[at(R_V + 6 * a + i, e)]
@@ -416,24 +461,34 @@ def bt_force_kernel(points: np.ndarray, cells: np.ndarray, velocity: np.ndarray,
     depend on its block, so the result does not depend on the number of threads.
     """
     n_cells = cells.shape[0]
-    n_layers = layer_z.shape[1]
     active = active_layers(layer_stiffness, layer_thickness)
+    # the layer data padded with zero layers to whole groups
+    n_groups = -(-layer_z.shape[1] // GROUP)
+    stiffness = np.zeros((layer_z.shape[0], n_groups * GROUP, 3, 3))
+    z, thickness = np.zeros(stiffness.shape[:2]), np.zeros(stiffness.shape[:2])
+    stiffness[:, : layer_z.shape[1]] = layer_stiffness
+    z[:, : layer_z.shape[1]] = layer_z
+    thickness[:, : layer_z.shape[1]] = layer_thickness
     n_chunks = max(1, min(n_cells, 64))  # enough for the threads' load balance
     for chunk in nb.prange(n_chunks):
-        w = np.empty((N_ROWS + 3 * n_layers) * BLOCK)
+        # zeros: the layer loop also runs the slots a short block leaves unused
+        w = np.zeros(N_ROWS * BLOCK)
+        sig = np.zeros((n_groups, 3 * GROUP * BLOCK))
         start, end = chunk * n_cells // n_chunks, (chunk + 1) * n_cells // n_chunks
         while start < end:
             stop = block_end(cell_laminate, start, end)
             n, lam = stop - start, cell_laminate[start]
             h, m = shear[lam], moduli[lam]
-            gather_block(w, start, n, active[lam], points, velocity, cells, layer_stress,
+            gather_block(w, sig, start, n, active[lam], points, velocity, cells, layer_stress,
                          shear_force, hourglass)  # fmt: skip
             block_kinematics(w, n, dt, (h[0, 0], h[0, 1], h[1, 0], h[1, 1]),
                              (ratio * m[0], ratio * m[1], ratio * m[2] * m[3] ** 2))  # fmt: skip
-            block_layers(w, n, dt, layer_stiffness[lam], layer_z[lam], layer_thickness[lam],
-                         active[lam])  # fmt: skip
+            for group in range(-(-active[lam] // GROUP)):
+                block_layer_group(w, sig[group], dt, stiffness[lam], z[lam], thickness[lam],
+                                  group * GROUP)  # fmt: skip
             block_forces(w, n)
-            scatter_block(w, start, n, active[lam], layer_stress, shear_force, hourglass, forces)
+            scatter_block(w, sig, start, n, active[lam], layer_stress, shear_force, hourglass,
+                          forces)  # fmt: skip
             start = stop
 
 
