@@ -370,10 +370,16 @@ def block_forces(w: np.ndarray, n: int) -> None:
 @nb.njit
 def gather_block(w: np.ndarray, sig: np.ndarray, start: int, n: int, n_active: int,
                  points: np.ndarray, velocity: np.ndarray, cells: np.ndarray,
-                 layer_stress: np.ndarray, shear_force: np.ndarray,
+                 stress: np.ndarray, shear_force: np.ndarray,
                  hourglass: np.ndarray) -> None:  # fmt: skip
-    """The node coordinates and velocities and the stresses of cells start..start+n-1 (the
-    first ``n_active`` layers' into the group scratch ``sig``, (n_groups, 3 GROUP BLOCK))."""
+    """The node coordinates and velocities and the stresses of cells start..start+n-1.
+
+    Args:
+        sig: the layer-group scratch, all groups one after the other: component 3 k + i of the
+            layer stresses (layer k) at ``sig[(3 k + i) * BLOCK + e]``.
+        n_active: the layers to copy.
+        stress: the layer stresses as (n_cells, 3 n_layers) (a view of the state's).
+    """
     for e in range(n):
         c = start + e
         for a in range(4):
@@ -386,30 +392,44 @@ def gather_block(w: np.ndarray, sig: np.ndarray, start: int, n: int, n_active: i
             w[at(R_SHEAR + i, e)] = shear_force[c, i]
         for i in range(5):
             w[at(R_HOURGLASS + i, e)] = hourglass[c, i]
-        for k in range(n_active):
-            group, j = divmod(k, GROUP)
-            for i in range(3):
-                sig[group, at(3 * j + i, e)] = layer_stress[c, k, i]
+        for k in range(3 * n_active):
+            sig[at(k, e)] = stress[c, k]
 
 
 @nb.njit
-def scatter_block(w: np.ndarray, sig: np.ndarray, start: int, n: int, n_active: int,
-                  layer_stress: np.ndarray, shear_force: np.ndarray, hourglass: np.ndarray,
-                  forces: np.ndarray) -> None:  # fmt: skip
-    """The stresses and nodal forces of cells start..start+n-1 back to the cell arrays."""
+def scatter_state(w: np.ndarray, sig: np.ndarray, start: int, n: int, n_active: int,
+                  stress: np.ndarray, shear_force: np.ndarray,
+                  hourglass: np.ndarray) -> None:  # fmt: skip
+    """The stresses of cells start..start+n-1 back to the state (``gather_block``'s layout)."""
     for e in range(n):
         c = start + e
         for i in range(2):
             shear_force[c, i] = w[at(R_SHEAR + i, e)]
         for i in range(5):
             hourglass[c, i] = w[at(R_HOURGLASS + i, e)]
-        for k in range(n_active):
-            group, j = divmod(k, GROUP)
-            for i in range(3):
-                layer_stress[c, k, i] = sig[group, at(3 * j + i, e)]
+        for k in range(3 * n_active):
+            stress[c, k] = sig[at(k, e)]
+
+
+@nb.njit
+def store_cell_forces(w: np.ndarray, start: int, n: int, forces: np.ndarray) -> None:
+    """The nodal forces of cells start..start+n-1 into ``forces`` (n_cells, 4, 6)."""
+    for e in range(n):
         for a in range(4):
             for i in range(6):
-                forces[c, a, i] = w[at(R_V + 6 * a + i, e)]
+                forces[start + e, a, i] = w[at(R_V + 6 * a + i, e)]
+
+
+@nb.njit
+def add_nodal_forces(w: np.ndarray, start: int, n: int, cells: np.ndarray,
+                     nodal: np.ndarray) -> None:  # fmt: skip
+    """Add the nodal forces of cells start..start+n-1 into ``nodal`` (n_points, 6), cell by cell
+    and node by node (the order of a serial sum over (n_cells, 4, 6) cell forces)."""
+    for e in range(n):
+        for a in range(4):
+            node = cells[start + e, a]
+            for i in range(6):
+                nodal[node, i] += w[at(R_V + 6 * a + i, e)]
 
 
 @nb.njit
@@ -425,6 +445,21 @@ def active_layers(layer_stiffness: np.ndarray, layer_thickness: np.ndarray) -> n
     return active
 
 
+@nb.njit
+def padded_layers(
+    layer_stiffness: np.ndarray, layer_z: np.ndarray, layer_thickness: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Qbar_k, z_k and t_k of every laminate padded with zero layers to whole groups."""
+    n_laminates, n_layers = layer_z.shape
+    n_padded = -(-n_layers // GROUP) * GROUP
+    stiffness = np.zeros((n_laminates, n_padded, 3, 3))
+    z, thickness = np.zeros((n_laminates, n_padded)), np.zeros((n_laminates, n_padded))
+    stiffness[:, :n_layers] = layer_stiffness
+    z[:, :n_layers] = layer_z
+    thickness[:, :n_layers] = layer_thickness
+    return stiffness, z, thickness
+
+
 @nb.njit(inline="always")
 def block_end(cell_laminate: np.ndarray, start: int, end: int) -> int:
     """The end of the block from cell ``start``: at most BLOCK cells of one laminate, < end."""
@@ -434,6 +469,40 @@ def block_end(cell_laminate: np.ndarray, start: int, end: int) -> int:
         if cell_laminate[c] != lam:
             return c
     return stop
+
+
+@nb.njit(inline="always")
+def advance_cells(first, end, points, cells, velocity, dt, cell_laminate, section, ratio, state,
+                  forces, fused):  # fmt: skip
+    """Cells first..end-1, block by block: their stresses advanced, their nodal forces written to
+    ``forces`` (n_cells, 4, 6) or, with ``fused`` (a compile-time constant), added into it
+    (n_points, 6)."""
+    stiffness, z, thickness, active, shear, moduli = section
+    layer_stress, shear_force, hourglass = state
+    stress = layer_stress.reshape(layer_stress.shape[0], -1)
+    group_size = 3 * GROUP * BLOCK
+    # zeros: the layer loop also runs the slots a short block leaves unused
+    w = np.zeros(N_ROWS * BLOCK)
+    sig = np.zeros(stiffness.shape[1] // GROUP * group_size)
+    start = first
+    while start < end:
+        stop = block_end(cell_laminate, start, end)
+        n, lam = stop - start, cell_laminate[start]
+        h, m = shear[lam], moduli[lam]
+        gather_block(w, sig, start, n, active[lam], points, velocity, cells, stress, shear_force,
+                     hourglass)  # fmt: skip
+        block_kinematics(w, n, dt, (h[0, 0], h[0, 1], h[1, 0], h[1, 1]),
+                         (ratio * m[0], ratio * m[1], ratio * m[2] * m[3] ** 2))  # fmt: skip
+        for group in range(-(-active[lam] // GROUP)):
+            block_layer_group(w, sig[group * group_size : (group + 1) * group_size], dt,
+                              stiffness[lam], z[lam], thickness[lam], group * GROUP)  # fmt: skip
+        block_forces(w, n)
+        scatter_state(w, sig, start, n, active[lam], stress, shear_force, hourglass)
+        if fused:
+            add_nodal_forces(w, start, n, cells, forces)
+        else:
+            store_cell_forces(w, start, n, forces)
+        start = stop
 
 
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
@@ -453,7 +522,8 @@ def bt_force_kernel(points: np.ndarray, cells: np.ndarray, velocity: np.ndarray,
         cell_laminate, layer_stiffness, layer_z, layer_thickness, shear, moduli: the
             :class:`~batball.elements.shell_bt_section.LayeredSection` arrays.
         ratio: r of the hourglass constants.
-        layer_stress, shear_force, hourglass: the :class:`ShellForceState` arrays, in/out.
+        layer_stress, shear_force, hourglass: the :class:`ShellForceState` arrays (C order),
+            in/out.
         forces: (n_cells, 4, 6) out: forces [N] and moments [N m] on each cell's nodes (f_int).
 
     The cells run in a fixed number of contiguous parallel chunks, each in blocks of one laminate
@@ -461,35 +531,35 @@ def bt_force_kernel(points: np.ndarray, cells: np.ndarray, velocity: np.ndarray,
     depend on its block, so the result does not depend on the number of threads.
     """
     n_cells = cells.shape[0]
-    active = active_layers(layer_stiffness, layer_thickness)
-    # the layer data padded with zero layers to whole groups
-    n_groups = -(-layer_z.shape[1] // GROUP)
-    stiffness = np.zeros((layer_z.shape[0], n_groups * GROUP, 3, 3))
-    z, thickness = np.zeros(stiffness.shape[:2]), np.zeros(stiffness.shape[:2])
-    stiffness[:, : layer_z.shape[1]] = layer_stiffness
-    z[:, : layer_z.shape[1]] = layer_z
-    thickness[:, : layer_z.shape[1]] = layer_thickness
+    stiffness, z, thickness = padded_layers(layer_stiffness, layer_z, layer_thickness)
+    section = (stiffness, z, thickness, active_layers(layer_stiffness, layer_thickness), shear,
+               moduli)  # fmt: skip
+    state = (layer_stress, shear_force, hourglass)
     n_chunks = max(1, min(n_cells, 64))  # enough for the threads' load balance
     for chunk in nb.prange(n_chunks):
-        # zeros: the layer loop also runs the slots a short block leaves unused
-        w = np.zeros(N_ROWS * BLOCK)
-        sig = np.zeros((n_groups, 3 * GROUP * BLOCK))
-        start, end = chunk * n_cells // n_chunks, (chunk + 1) * n_cells // n_chunks
-        while start < end:
-            stop = block_end(cell_laminate, start, end)
-            n, lam = stop - start, cell_laminate[start]
-            h, m = shear[lam], moduli[lam]
-            gather_block(w, sig, start, n, active[lam], points, velocity, cells, layer_stress,
-                         shear_force, hourglass)  # fmt: skip
-            block_kinematics(w, n, dt, (h[0, 0], h[0, 1], h[1, 0], h[1, 1]),
-                             (ratio * m[0], ratio * m[1], ratio * m[2] * m[3] ** 2))  # fmt: skip
-            for group in range(-(-active[lam] // GROUP)):
-                block_layer_group(w, sig[group], dt, stiffness[lam], z[lam], thickness[lam],
-                                  group * GROUP)  # fmt: skip
-            block_forces(w, n)
-            scatter_block(w, sig, start, n, active[lam], layer_stress, shear_force, hourglass,
-                          forces)  # fmt: skip
-            start = stop
+        advance_cells(chunk * n_cells // n_chunks, (chunk + 1) * n_cells // n_chunks, points,
+                      cells, velocity, dt, cell_laminate, section, ratio, state, forces,
+                      False)  # fmt: skip
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def bt_nodal_force_kernel(points: np.ndarray, cells: np.ndarray, velocity: np.ndarray,
+                          dt: float, cell_laminate: np.ndarray, layer_stiffness: np.ndarray,
+                          layer_z: np.ndarray, layer_thickness: np.ndarray, shear: np.ndarray,
+                          moduli: np.ndarray, ratio: float, layer_stress: np.ndarray,
+                          shear_force: np.ndarray, hourglass: np.ndarray,
+                          nodal: np.ndarray) -> None:  # fmt: skip
+    """:func:`bt_force_kernel` with the assembly fused in, on one thread: ``nodal`` (n_points,
+    >= 6) gets f_int in its first 6 columns (overwritten), summed cell by cell, node by node:
+    the same bits as a serial sum of :func:`bt_force_kernel`'s cell forces (no (n_cells, 4, 6)
+    array written and read back)."""
+    nodal[:, :6] = 0.0
+    stiffness, z, thickness = padded_layers(layer_stiffness, layer_z, layer_thickness)
+    section = (stiffness, z, thickness, active_layers(layer_stiffness, layer_thickness), shear,
+               moduli)  # fmt: skip
+    state = (layer_stress, shear_force, hourglass)
+    advance_cells(0, cells.shape[0], points, cells, velocity, dt, cell_laminate, section, ratio,
+                  state, nodal, True)  # fmt: skip
 
 
 def bt_internal_forces(
@@ -517,16 +587,14 @@ def bt_internal_forces(
     Returns:
         f_int, forces and moments on the nodes, (n_points, 6), N and N m (M a = f_ext - f_int).
     """
-    forces = np.empty((cells.shape[0], 4, 6))
-    bt_force_kernel(np.ascontiguousarray(points, dtype=np.float64), cells.astype(np.int64),
-                    np.ascontiguousarray(velocity, dtype=np.float64), float(dt),
-                    section.cell_laminate, section.layer_stiffness, section.layer_z,
-                    section.layer_thickness, section.shear, section.hourglass_moduli,
-                    float(hourglass_ratio), state.layer_stress, state.shear_force,
-                    state.hourglass, forces)  # fmt: skip
-    dofs = (6 * cells[:, :, None] + np.arange(6)).ravel()
-    summed = np.bincount(dofs, weights=forces.ravel(), minlength=6 * points.shape[0])
-    return summed.reshape(points.shape[0], 6)
+    nodal = np.empty((points.shape[0], 6))
+    bt_nodal_force_kernel(np.ascontiguousarray(points, dtype=np.float64), cells.astype(np.int64),
+                          np.ascontiguousarray(velocity, dtype=np.float64), float(dt),
+                          section.cell_laminate, section.layer_stiffness, section.layer_z,
+                          section.layer_thickness, section.shear, section.hourglass_moduli,
+                          float(hourglass_ratio), state.layer_stress, state.shear_force,
+                          state.hourglass, nodal)  # fmt: skip
+    return nodal
 
 
 def small_displacement_forces(

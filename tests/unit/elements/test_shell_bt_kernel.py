@@ -6,7 +6,8 @@ cell at a time with small work arrays, kept unchanged as the reference. Both are
 for several steps on a small, randomly perturbed, curved (tapered tube) mesh of three laminates
 with different layer counts (so padding layers and blocks cut at laminate changes occur), with
 random velocities and rotation rates and a random initial stress state, and must agree to
-round-off in the nodal forces and in every state array.
+round-off in the nodal forces and in every state array. The kernel with the assembly fused in
+(``bt_nodal_force_kernel``) must give exactly the serial sum of the blocked kernel's cell forces.
 
 Tolerance: 1e-10 of each array's largest magnitude. The two kernels evaluate the same
 expressions in the same order; they differ only in what LLVM's fast-math flags let it do
@@ -23,7 +24,7 @@ import numba as nb
 import numpy as np
 import pytest
 
-from batball.elements.shell_bt import HOURGLASS_RATIO, bt_force_kernel
+from batball.elements.shell_bt import HOURGLASS_RATIO, bt_force_kernel, bt_nodal_force_kernel
 from batball.elements.shell_bt_scalar import bt_force_kernel_scalar
 from batball.elements.shell_bt_section import LayeredSection, layered_section
 from batball.materials.laminate import Laminate, Ply
@@ -60,13 +61,14 @@ def random_state(rng: np.random.Generator, section: LayeredSection) -> list[np.n
     return [stress, rng.normal(0.0, 1e3, (n_cells, 2)), rng.normal(0.0, 1e-1, (n_cells, 5))]
 
 
-def run(kernel, points, cells, section, velocities, dt, state):  # noqa: ANN001, ANN201
+def run(kernel, points, cells, section, velocities, dt, state, out_shape=None):  # noqa: ANN001, ANN201
     """Step ``kernel`` with each velocity field in turn (nodes moved by v dt between steps);
-    returns the nodal forces of every step and the final state (the inputs are not changed)."""
+    returns its force output (``out_shape``, default (n_cells, 4, 6), NaN before the call) of
+    every step and the final state (the inputs are not changed)."""
     points, state = points.copy(), [a.copy() for a in state]
     forces = []
     for velocity in velocities:
-        f = np.full((cells.shape[0], 4, 6), np.nan)
+        f = np.full(out_shape or (cells.shape[0], 4, 6), np.nan)
         kernel(points, cells, velocity, dt, section.cell_laminate, section.layer_stiffness,
                section.layer_z, section.layer_thickness, section.shear,
                section.hourglass_moduli, HOURGLASS_RATIO, *state, f)  # fmt: skip
@@ -121,4 +123,26 @@ def test_blocked_kernel_does_not_depend_on_the_thread_count() -> None:
     parallel = run(bt_force_kernel, points, cells, section, velocities, 1e-7, state)
     assert np.array_equal(serial[0], parallel[0])
     for a, b in zip(serial[1], parallel[1], strict=True):
+        assert np.array_equal(a, b)
+
+
+def test_fused_assembly_is_the_serial_sum_of_the_cell_forces() -> None:
+    """The same bits as the cell forces summed node by node in cell order (np.add.at), and the
+    same state."""
+    rng = np.random.default_rng(3)
+    points, cells, section = curved_mesh(rng)
+    state = random_state(rng, section)
+    velocities = [rng.normal(0.0, 1.0, (points.shape[0], 6)) for _ in range(3)]
+    cell_forces, cell_state = run(bt_force_kernel, points, cells, section, velocities, 1e-7,
+                                  state)  # fmt: skip
+    n_points = points.shape[0]
+    # a 7th column, which the kernel must leave alone
+    nodal_forces, nodal_state = run(bt_nodal_force_kernel, points, cells, section, velocities,
+                                    1e-7, state, (n_points, 7))  # fmt: skip
+    for step in range(len(velocities)):
+        expected = np.zeros((n_points, 6))
+        np.add.at(expected, cells.ravel(), cell_forces[step].reshape(-1, 6))
+        assert np.array_equal(nodal_forces[step][:, :6], expected)
+        assert np.all(np.isnan(nodal_forces[step][:, 6]))
+    for a, b in zip(nodal_state, cell_state, strict=True):
         assert np.array_equal(a, b)
