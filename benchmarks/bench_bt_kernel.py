@@ -43,10 +43,12 @@ def main() -> None:
     cell_forces = np.zeros((bat.cells.shape[0], 4, 6))
     forces = np.zeros((points.shape[0], 6))
     dt = 2e-7
+    # the state arrays: the block layout since issue 9, element-wise before
+    state_arrays = ((state.block_start, state.history) if hasattr(state, "history")
+                    else (state.layer_stress, state.shear_force, state.hourglass))  # fmt: skip
     arguments = (points, bat.cells, velocity, dt, section.cell_laminate, section.layer_stiffness,
                  section.layer_z, section.layer_thickness, section.shear,
-                 section.hourglass_moduli, HOURGLASS_RATIO, state.layer_stress,
-                 state.shear_force, state.hourglass)  # fmt: skip
+                 section.hourglass_moduli, HOURGLASS_RATIO, *state_arrays)  # fmt: skip
 
     def call() -> None:
         if args.fused:

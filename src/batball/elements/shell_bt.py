@@ -25,6 +25,10 @@ Manual (Hallquist 2006, section 7).
 
 With zero initial state, ``dt = 1`` and the velocities set to a small displacement field, one call
 gives the linear internal force K_BT u (:func:`small_displacement_forces`).
+
+The kernel runs SIMD across blocks of 16 cells of one laminate, the state kept in its block
+layout (comments at ``BLOCK`` and ``N_STATE_ROWS``); :mod:`batball.elements.shell_bt_scalar` is
+the former one-cell-at-a-time kernel, kept as the reference it is tested against.
 """
 
 from __future__ import annotations
@@ -41,35 +45,12 @@ from batball.numerics import FASTMATH
 HOURGLASS_RATIO = 0.01
 
 
-@dataclass(frozen=True)
-class ShellForceState:
-    """The evolving stresses of the layered BT shells (co-rotational frame), updated in place.
-
-    Attributes:
-        layer_stress: (sigma_xx, sigma_yy, sigma_xy) per layer, (n_cells, n_layers, 3), Pa.
-        shear_force: transverse shear resultants (Q_x, Q_y), (n_cells, 2), N/m.
-        hourglass: generalised hourglass stresses (membrane x, y; bending x, y; warping),
-            (n_cells, 5), N, N m, N.
-    """
-
-    layer_stress: np.ndarray
-    shear_force: np.ndarray
-    hourglass: np.ndarray
-
-
-def initial_force_state(section: LayeredSection) -> ShellForceState:
-    """A stress-free state for every cell of ``section``."""
-    n_cells, n_layers = section.n_cells, section.layer_z.shape[1]
-    return ShellForceState(np.zeros((n_cells, n_layers, 3)), np.zeros((n_cells, 2)),
-                           np.zeros((n_cells, 5)))  # fmt: skip
-
-
 # The kernel runs the cells in blocks of up to BLOCK consecutive cells of one laminate, as the
-# hex kernel (batball.elements.hex8_block): a block is gathered into one scratch vector ``w`` in
-# structure-of-arrays form, row r of slot e at ``w[r * BLOCK + e]``, advanced by three loops over
-# its slots whose bodies are straight-line arithmetic on scalars and tuples (which LLVM
+# hex kernel (batball.elements.hex8_block): a block's nodes are gathered into one scratch vector
+# ``w`` in structure-of-arrays form, row r of slot e at ``w[r * BLOCK + e]``, advanced by loops
+# over its slots whose bodies are straight-line arithmetic on scalars and tuples (which LLVM
 # vectorises across the slots; the laminate's constants are scalars shared by the block), and
-# scattered back. The rows:
+# the forces scattered back. The rows:
 BLOCK = 16
 R_X = 0  # 12 node coordinates (node-major, 3 a + i) [m]
 R_V = 12  # 24 node velocities and rotation rates (6 a + i) [m/s, rad/s]; then the 24 forces
@@ -82,12 +63,115 @@ R_RES = 64  # 6 resultants N [N/m] and M [N]
 R_SHEAR = 70  # 2 transverse shear forces Q [N/m] (state)
 R_HOURGLASS = 72  # 5 generalised hourglass stresses (state)
 N_ROWS = 77
-# The layer stresses live in a second scratch, one vector of 3 GROUP rows per group of GROUP
-# layers (sigma_xx, sigma_yy, sigma_xy [Pa] of layer j of the group in its rows 3 j + i): the
-# layer loop runs a group's layers as straight-line code at constant rows, over all BLOCK slots
-# (a loop over a runtime layer index, or over n < BLOCK slots, is not vectorised: LLVM cannot
-# then prove that the rows do not overlap nor drop Numba's negative-index checks).
+
+# The shells' state is kept between steps in the kernel's block layout (as the hex kernel's
+# history): block b's row of ``ShellForceState.history`` holds, for its cell e, row r at
+# r * BLOCK + e: rows 0-1 the transverse shear forces, 2-6 the hourglass stresses (copied to and
+# from the scratch rows R_SHEAR..R_HOURGLASS + 4), then the layer stresses sigma_xx, sigma_yy,
+# sigma_xy [Pa] of layer k in rows 3 k + i. The layer loop updates them where they lie, GROUP
+# layers at a time as straight-line code at constant rows, over all BLOCK slots (a loop over a
+# runtime layer index, or over n < BLOCK slots, was not vectorised: LLVM could then neither prove
+# the rows apart nor drop Numba's negative-index checks); the layers are padded with zero ones
+# to whole groups.
 GROUP = 5
+N_STATE_ROWS = 7
+S_LAYERS = N_STATE_ROWS  # first row of the layer stresses in a history row
+
+
+@nb.njit
+def padded_layer_count(n_layers: int) -> int:
+    """Layers of the kernel's arrays for ``n_layers``: whole groups of GROUP."""
+    return -(-n_layers // GROUP) * GROUP
+
+
+def shell_blocks(cell_laminate: np.ndarray) -> np.ndarray:
+    """First cell of each kernel block, then n_cells, (n_blocks + 1,): runs of at most BLOCK
+    consecutive cells of one laminate."""
+    lam = np.asarray(cell_laminate)
+    starts, c = [], 0
+    while c < lam.size:
+        stop = c + 1
+        while stop < min(c + BLOCK, lam.size) and lam[stop] == lam[c]:
+            stop += 1
+        starts.append(c)
+        c = stop
+    return np.array([*starts, lam.size], dtype=np.int64)
+
+
+@dataclass(frozen=True)
+class ShellForceState:
+    """The evolving stresses of the layered BT shells (co-rotational frame), updated in place.
+
+    Kept in the kernel's block layout (module comment at ``N_STATE_ROWS``); the properties give
+    the element-wise arrays (copies).
+
+    Attributes:
+        block_start: first cell of each block, then n_cells, (n_blocks + 1,), int
+            (:func:`shell_blocks`).
+        history: (n_blocks, (N_STATE_ROWS + 3 n_padded) * BLOCK), SI units, n_padded =
+            :func:`padded_layer_count` of n_layers.
+        n_layers: layers of the section.
+    """
+
+    block_start: np.ndarray
+    history: np.ndarray
+    n_layers: int
+
+    def columns(self) -> np.ndarray:
+        """The history cell by cell, (n_cells, N_STATE_ROWS + 3 n_padded) (a copy)."""
+        n_blocks, width = self.history.shape
+        slots = self.history.reshape(n_blocks, width // BLOCK, BLOCK).transpose(0, 2, 1)
+        used = np.arange(BLOCK)[None, :] < np.diff(self.block_start)[:, None]
+        return slots[used]
+
+    @property
+    def layer_stress(self) -> np.ndarray:
+        """(sigma_xx, sigma_yy, sigma_xy) per layer, (n_cells, n_layers, 3), Pa (a copy)."""
+        stress = self.columns()[:, S_LAYERS : S_LAYERS + 3 * self.n_layers]
+        return stress.reshape(-1, self.n_layers, 3)
+
+    @property
+    def shear_force(self) -> np.ndarray:
+        """Transverse shear resultants (Q_x, Q_y), (n_cells, 2), N/m (a copy)."""
+        return self.columns()[:, 0:2]
+
+    @property
+    def hourglass(self) -> np.ndarray:
+        """Generalised hourglass stresses (membrane x, y; bending x, y; warping), (n_cells, 5),
+        N, N m, N (a copy)."""
+        return self.columns()[:, 2:7]
+
+
+def pack_force_state(
+    cell_laminate: np.ndarray,
+    layer_stress: np.ndarray,
+    shear_force: np.ndarray | None = None,
+    hourglass: np.ndarray | None = None,
+) -> ShellForceState:
+    """The state of cells with the element-wise ``layer_stress`` (n_cells, n_layers, 3) [Pa],
+    ``shear_force`` (n_cells, 2) [N/m] and ``hourglass`` (n_cells, 5) (zero where not given)."""
+    n_cells, n_layers = layer_stress.shape[:2]
+    block_start = shell_blocks(cell_laminate)
+    n_blocks = block_start.size - 1
+    rows = N_STATE_ROWS + 3 * padded_layer_count(n_layers)
+    columns = np.zeros((n_cells, rows))
+    columns[:, S_LAYERS : S_LAYERS + 3 * n_layers] = layer_stress.reshape(n_cells, -1)
+    if shear_force is not None:
+        columns[:, 0:2] = shear_force
+    if hourglass is not None:
+        columns[:, 2:7] = hourglass
+    slots = np.zeros((n_blocks, BLOCK, rows))
+    used = np.arange(BLOCK)[None, :] < np.diff(block_start)[:, None]
+    slots[used] = columns
+    history = np.ascontiguousarray(slots.transpose(0, 2, 1)).reshape(n_blocks, -1)
+    return ShellForceState(block_start, history, n_layers)
+
+
+def initial_force_state(section: LayeredSection) -> ShellForceState:
+    """A stress-free state for every cell of ``section``."""
+    n_layers = section.layer_z.shape[1]
+    return pack_force_state(section.cell_laminate, np.zeros((section.n_cells, n_layers, 3)))
+
 
 Vec3 = tuple[float, float, float]
 
@@ -368,47 +452,25 @@ def block_forces(w: np.ndarray, n: int) -> None:
 
 
 @nb.njit
-def gather_block(w: np.ndarray, sig: np.ndarray, start: int, n: int, n_active: int,
-                 points: np.ndarray, velocity: np.ndarray, cells: np.ndarray,
-                 stress: np.ndarray, shear_force: np.ndarray,
-                 hourglass: np.ndarray) -> None:  # fmt: skip
-    """The node coordinates and velocities and the stresses of cells start..start+n-1.
-
-    Args:
-        sig: the layer-group scratch, all groups one after the other: component 3 k + i of the
-            layer stresses (layer k) at ``sig[(3 k + i) * BLOCK + e]``.
-        n_active: the layers to copy.
-        stress: the layer stresses as (n_cells, 3 n_layers) (a view of the state's).
-    """
+def gather_nodes(w: np.ndarray, start: int, n: int, points: np.ndarray, velocity: np.ndarray,
+                 cells: np.ndarray) -> None:  # fmt: skip
+    """The node coordinates and velocities of cells start..start+n-1."""
     for e in range(n):
-        c = start + e
         for a in range(4):
-            node = cells[c, a]
+            node = cells[start + e, a]
             for i in range(3):
                 w[at(R_X + 3 * a + i, e)] = points[node, i]
             for i in range(6):
                 w[at(R_V + 6 * a + i, e)] = velocity[node, i]
-        for i in range(2):
-            w[at(R_SHEAR + i, e)] = shear_force[c, i]
-        for i in range(5):
-            w[at(R_HOURGLASS + i, e)] = hourglass[c, i]
-        for k in range(3 * n_active):
-            sig[at(k, e)] = stress[c, k]
 
 
 @nb.njit
-def scatter_state(w: np.ndarray, sig: np.ndarray, start: int, n: int, n_active: int,
-                  stress: np.ndarray, shear_force: np.ndarray,
-                  hourglass: np.ndarray) -> None:  # fmt: skip
-    """The stresses of cells start..start+n-1 back to the state (``gather_block``'s layout)."""
-    for e in range(n):
-        c = start + e
-        for i in range(2):
-            shear_force[c, i] = w[at(R_SHEAR + i, e)]
-        for i in range(5):
-            hourglass[c, i] = w[at(R_HOURGLASS + i, e)]
-        for k in range(3 * n_active):
-            stress[c, k] = sig[at(k, e)]
+def clear_unused_rates(w: np.ndarray, n: int) -> None:
+    """Zero rates for the slots n..BLOCK-1 that a short block leaves unused (the layer loop runs
+    them too), so that their history stays zero."""
+    for r in range(R_RATE, R_RATE + 6):
+        for e in range(n, BLOCK):
+            w[at(r, e)] = 0.0
 
 
 @nb.njit
@@ -451,7 +513,7 @@ def padded_layers(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Qbar_k, z_k and t_k of every laminate padded with zero layers to whole groups."""
     n_laminates, n_layers = layer_z.shape
-    n_padded = -(-n_layers // GROUP) * GROUP
+    n_padded = padded_layer_count(n_layers)
     stiffness = np.zeros((n_laminates, n_padded, 3, 3))
     z, thickness = np.zeros((n_laminates, n_padded)), np.zeros((n_laminates, n_padded))
     stiffness[:, :n_layers] = layer_stiffness
@@ -461,57 +523,55 @@ def padded_layers(
 
 
 @nb.njit(inline="always")
-def block_end(cell_laminate: np.ndarray, start: int, end: int) -> int:
-    """The end of the block from cell ``start``: at most BLOCK cells of one laminate, < end."""
-    stop = min(start + BLOCK, end)
-    lam = cell_laminate[start]
-    for c in range(start + 1, stop):
-        if cell_laminate[c] != lam:
-            return c
-    return stop
-
-
-@nb.njit(inline="always")
-def advance_cells(first, end, points, cells, velocity, dt, cell_laminate, section, ratio, state,
-                  forces, fused):  # fmt: skip
-    """Cells first..end-1, block by block: their stresses advanced, their nodal forces written to
-    ``forces`` (n_cells, 4, 6) or, with ``fused`` (a compile-time constant), added into it
+def advance_blocks(first, last, points, cells, velocity, dt, cell_laminate, section, ratio,
+                   block_start, history, forces, fused):  # fmt: skip
+    """Blocks first..last-1: their stresses advanced in ``history``, their nodal forces written
+    to ``forces`` (n_cells, 4, 6) or, with ``fused`` (a compile-time constant), added into it
     (n_points, 6)."""
     stiffness, z, thickness, active, shear, moduli = section
-    layer_stress, shear_force, hourglass = state
-    stress = layer_stress.reshape(layer_stress.shape[0], -1)
     group_size = 3 * GROUP * BLOCK
-    # zeros: the layer loop also runs the slots a short block leaves unused
+    state = N_STATE_ROWS * BLOCK
     w = np.zeros(N_ROWS * BLOCK)
-    sig = np.zeros(stiffness.shape[1] // GROUP * group_size)
-    start = first
-    while start < end:
-        stop = block_end(cell_laminate, start, end)
+    for b in range(first, last):
+        start, stop = block_start[b], block_start[b + 1]
         n, lam = stop - start, cell_laminate[start]
-        h, m = shear[lam], moduli[lam]
-        gather_block(w, sig, start, n, active[lam], points, velocity, cells, stress, shear_force,
-                     hourglass)  # fmt: skip
+        h, m, rows = shear[lam], moduli[lam], history[b]
+        gather_nodes(w, start, n, points, velocity, cells)
+        w[R_SHEAR * BLOCK : R_SHEAR * BLOCK + state] = rows[:state]
         block_kinematics(w, n, dt, (h[0, 0], h[0, 1], h[1, 0], h[1, 1]),
                          (ratio * m[0], ratio * m[1], ratio * m[2] * m[3] ** 2))  # fmt: skip
+        clear_unused_rates(w, n)
         for group in range(-(-active[lam] // GROUP)):
-            block_layer_group(w, sig[group * group_size : (group + 1) * group_size], dt,
-                              stiffness[lam], z[lam], thickness[lam], group * GROUP)  # fmt: skip
+            first_row = S_LAYERS * BLOCK + group * group_size
+            block_layer_group(w, rows[first_row : first_row + group_size], dt, stiffness[lam],
+                              z[lam], thickness[lam], group * GROUP)  # fmt: skip
         block_forces(w, n)
-        scatter_state(w, sig, start, n, active[lam], stress, shear_force, hourglass)
+        rows[:state] = w[R_SHEAR * BLOCK : R_SHEAR * BLOCK + state]
         if fused:
             add_nodal_forces(w, start, n, cells, forces)
         else:
             store_cell_forces(w, start, n, forces)
-        start = stop
+
+
+@nb.njit
+def kernel_section(layer_stiffness: np.ndarray, layer_z: np.ndarray,
+                   layer_thickness: np.ndarray, shear: np.ndarray, moduli: np.ndarray,
+                   history: np.ndarray) -> tuple:  # fmt: skip
+    """The section arrays as the block loop takes them (layers padded to whole groups, the
+    active layer counts); checks that ``history`` has the rows of this section."""
+    stiffness, z, thickness = padded_layers(layer_stiffness, layer_z, layer_thickness)
+    if history.shape[1] != (N_STATE_ROWS + 3 * stiffness.shape[1]) * BLOCK:
+        raise ValueError("the shell state's history does not fit the section's layers")
+    return (stiffness, z, thickness, active_layers(layer_stiffness, layer_thickness), shear,
+            moduli)  # fmt: skip
 
 
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
 def bt_force_kernel(points: np.ndarray, cells: np.ndarray, velocity: np.ndarray, dt: float,
                     cell_laminate: np.ndarray, layer_stiffness: np.ndarray,
                     layer_z: np.ndarray, layer_thickness: np.ndarray, shear: np.ndarray,
-                    moduli: np.ndarray, ratio: float, layer_stress: np.ndarray,
-                    shear_force: np.ndarray, hourglass: np.ndarray,
-                    forces: np.ndarray) -> None:  # fmt: skip
+                    moduli: np.ndarray, ratio: float, block_start: np.ndarray,
+                    history: np.ndarray, forces: np.ndarray) -> None:  # fmt: skip
     """Advance every cell's stresses by dt and write its nodal forces (n_cells, 4, 6), global.
 
     Args:
@@ -522,44 +582,36 @@ def bt_force_kernel(points: np.ndarray, cells: np.ndarray, velocity: np.ndarray,
         cell_laminate, layer_stiffness, layer_z, layer_thickness, shear, moduli: the
             :class:`~batball.elements.shell_bt_section.LayeredSection` arrays.
         ratio: r of the hourglass constants.
-        layer_stress, shear_force, hourglass: the :class:`ShellForceState` arrays (C order),
-            in/out.
+        block_start, history: the :class:`ShellForceState` arrays; history in/out.
         forces: (n_cells, 4, 6) out: forces [N] and moments [N m] on each cell's nodes (f_int).
 
-    The cells run in a fixed number of contiguous parallel chunks, each in blocks of one laminate
-    (module comment at ``BLOCK``); a cell writes only its own rows and its arithmetic does not
-    depend on its block, so the result does not depend on the number of threads.
+    The blocks run in a fixed number of contiguous parallel chunks; a cell writes only its own
+    rows and its arithmetic does not depend on the chunks, so the result does not depend on the
+    number of threads.
     """
-    n_cells = cells.shape[0]
-    stiffness, z, thickness = padded_layers(layer_stiffness, layer_z, layer_thickness)
-    section = (stiffness, z, thickness, active_layers(layer_stiffness, layer_thickness), shear,
-               moduli)  # fmt: skip
-    state = (layer_stress, shear_force, hourglass)
-    n_chunks = max(1, min(n_cells, 64))  # enough for the threads' load balance
+    section = kernel_section(layer_stiffness, layer_z, layer_thickness, shear, moduli, history)
+    n_blocks = block_start.size - 1
+    n_chunks = max(1, min(n_blocks, 64))  # enough for the threads' load balance
     for chunk in nb.prange(n_chunks):
-        advance_cells(chunk * n_cells // n_chunks, (chunk + 1) * n_cells // n_chunks, points,
-                      cells, velocity, dt, cell_laminate, section, ratio, state, forces,
-                      False)  # fmt: skip
+        advance_blocks(chunk * n_blocks // n_chunks, (chunk + 1) * n_blocks // n_chunks, points,
+                       cells, velocity, dt, cell_laminate, section, ratio, block_start, history,
+                       forces, False)  # fmt: skip
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
 def bt_nodal_force_kernel(points: np.ndarray, cells: np.ndarray, velocity: np.ndarray,
                           dt: float, cell_laminate: np.ndarray, layer_stiffness: np.ndarray,
                           layer_z: np.ndarray, layer_thickness: np.ndarray, shear: np.ndarray,
-                          moduli: np.ndarray, ratio: float, layer_stress: np.ndarray,
-                          shear_force: np.ndarray, hourglass: np.ndarray,
-                          nodal: np.ndarray) -> None:  # fmt: skip
+                          moduli: np.ndarray, ratio: float, block_start: np.ndarray,
+                          history: np.ndarray, nodal: np.ndarray) -> None:  # fmt: skip
     """:func:`bt_force_kernel` with the assembly fused in, on one thread: ``nodal`` (n_points,
     >= 6) gets f_int in its first 6 columns (overwritten), summed cell by cell, node by node:
     the same bits as a serial sum of :func:`bt_force_kernel`'s cell forces (no (n_cells, 4, 6)
     array written and read back)."""
     nodal[:, :6] = 0.0
-    stiffness, z, thickness = padded_layers(layer_stiffness, layer_z, layer_thickness)
-    section = (stiffness, z, thickness, active_layers(layer_stiffness, layer_thickness), shear,
-               moduli)  # fmt: skip
-    state = (layer_stress, shear_force, hourglass)
-    advance_cells(0, cells.shape[0], points, cells, velocity, dt, cell_laminate, section, ratio,
-                  state, nodal, True)  # fmt: skip
+    section = kernel_section(layer_stiffness, layer_z, layer_thickness, shear, moduli, history)
+    advance_blocks(0, block_start.size - 1, points, cells, velocity, dt, cell_laminate, section,
+                   ratio, block_start, history, nodal, True)  # fmt: skip
 
 
 def bt_internal_forces(
@@ -592,8 +644,8 @@ def bt_internal_forces(
                           np.ascontiguousarray(velocity, dtype=np.float64), float(dt),
                           section.cell_laminate, section.layer_stiffness, section.layer_z,
                           section.layer_thickness, section.shear, section.hourglass_moduli,
-                          float(hourglass_ratio), state.layer_stress, state.shear_force,
-                          state.hourglass, nodal)  # fmt: skip
+                          float(hourglass_ratio), state.block_start, state.history,
+                          nodal)  # fmt: skip
     return nodal
 
 

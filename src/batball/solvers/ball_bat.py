@@ -455,8 +455,8 @@ class CoupledSolver:
             s, sec = self.shell_state, m.bat.section
             args = (self.bat_points, m.bat.cells, self.bat_velocity, self.dt, sec.cell_laminate,
                     sec.layer_stiffness, sec.layer_z, sec.layer_thickness, sec.shear,
-                    sec.hourglass_moduli, HOURGLASS_RATIO, s.layer_stress, s.shear_force,
-                    s.hourglass)  # fmt: skip
+                    sec.hourglass_moduli, HOURGLASS_RATIO, s.block_start,
+                    s.history)  # fmt: skip
             if nb.get_num_threads() == 1:  # assembled in the kernel: the same sums, in one pass
                 bt_nodal_force_kernel(*args, self.bat_forces)
             else:

@@ -24,7 +24,13 @@ import numba as nb
 import numpy as np
 import pytest
 
-from batball.elements.shell_bt import HOURGLASS_RATIO, bt_force_kernel, bt_nodal_force_kernel
+from batball.elements.shell_bt import (
+    BLOCK,
+    HOURGLASS_RATIO,
+    bt_force_kernel,
+    bt_nodal_force_kernel,
+    pack_force_state,
+)
 from batball.elements.shell_bt_scalar import bt_force_kernel_scalar
 from batball.elements.shell_bt_section import LayeredSection, layered_section
 from batball.materials.laminate import Laminate, Ply
@@ -64,17 +70,26 @@ def random_state(rng: np.random.Generator, section: LayeredSection) -> list[np.n
 def run(kernel, points, cells, section, velocities, dt, state, out_shape=None):  # noqa: ANN001, ANN201
     """Step ``kernel`` with each velocity field in turn (nodes moved by v dt between steps);
     returns its force output (``out_shape``, default (n_cells, 4, 6), NaN before the call) of
-    every step and the final state (the inputs are not changed)."""
-    points, state = points.copy(), [a.copy() for a in state]
+    every step and the final state, element-wise (the inputs are not changed). The blocked
+    kernels get the state packed in their block layout (``pack_force_state``)."""
+    points = points.copy()
+    blocked = kernel is not bt_force_kernel_scalar
+    if blocked:
+        packed = pack_force_state(section.cell_laminate, *state)
+        arrays = [packed.block_start, packed.history]
+    else:
+        arrays = [a.copy() for a in state]
     forces = []
     for velocity in velocities:
         f = np.full(out_shape or (cells.shape[0], 4, 6), np.nan)
         kernel(points, cells, velocity, dt, section.cell_laminate, section.layer_stiffness,
                section.layer_z, section.layer_thickness, section.shear,
-               section.hourglass_moduli, HOURGLASS_RATIO, *state, f)  # fmt: skip
+               section.hourglass_moduli, HOURGLASS_RATIO, *arrays, f)  # fmt: skip
         forces.append(f)
         points += dt * velocity[:, :3]
-    return np.array(forces), state
+    if blocked:
+        arrays = [packed.layer_stress, packed.shear_force, packed.hourglass]
+    return np.array(forces), arrays
 
 
 def assert_close(actual: np.ndarray, expected: np.ndarray, name: str) -> None:
@@ -146,3 +161,23 @@ def test_fused_assembly_is_the_serial_sum_of_the_cell_forces() -> None:
         assert np.all(np.isnan(nodal_forces[step][:, 6]))
     for a, b in zip(nodal_state, cell_state, strict=True):
         assert np.array_equal(a, b)
+
+
+def test_block_layout_of_the_state() -> None:
+    """pack_force_state and the state's properties are inverse; blocks are runs of at most
+    BLOCK cells of one laminate, in cell order."""
+    rng = np.random.default_rng(5)
+    _, _, section = curved_mesh(rng)
+    stress, shear, hourglass = random_state(rng, section)
+    state = pack_force_state(section.cell_laminate, stress, shear, hourglass)
+    assert np.array_equal(state.layer_stress, stress)
+    assert np.array_equal(state.shear_force, shear)
+    assert np.array_equal(state.hourglass, hourglass)
+    start = state.block_start
+    assert start[0] == 0 and start[-1] == section.n_cells
+    assert np.all((np.diff(start) >= 1) & (np.diff(start) <= BLOCK))
+    for first, end in zip(start[:-1], start[1:], strict=True):
+        assert np.all(section.cell_laminate[first:end] == section.cell_laminate[first])
+        # a block stops short only at a laminate change
+        if end - first < BLOCK and end < section.n_cells:
+            assert section.cell_laminate[end] != section.cell_laminate[first]
