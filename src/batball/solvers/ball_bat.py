@@ -35,7 +35,12 @@ from batball.contact.segments import SegmentContact
 from batball.elements.hex8 import compute_hex8_forces
 from batball.elements.hex8_block import constants_terms, pack_history
 from batball.elements.hex8_foam import N_FOAM_HISTORY, compute_foam_forces
-from batball.elements.shell_bt import HOURGLASS_RATIO, ShellForceState, bt_force_kernel
+from batball.elements.shell_bt import (
+    HOURGLASS_RATIO,
+    ShellForceState,
+    bt_force_kernel,
+    bt_nodal_force_kernel,
+)
 from batball.elements.shell_bt_section import LayeredSection
 from batball.errors import SimulationError
 from batball.materials.foam import FoamTable
@@ -444,15 +449,19 @@ class CoupledSolver:
             raise SimulationError(f"ball element {bad} inverted at t = {self.time * 1e3:.4f} ms "
                                   f"(step {self.step})")  # fmt: skip
         clock = self.timed("ball_forces", clock)
-        self.bat_forces[:] = 0.0
-        if not m.bat.rigid:
+        if m.bat.rigid:
+            self.bat_forces[:] = 0.0
+        else:
             s, sec = self.shell_state, m.bat.section
-            bt_force_kernel(self.bat_points, m.bat.cells, self.bat_velocity, self.dt,
-                            sec.cell_laminate, sec.layer_stiffness, sec.layer_z,
-                            sec.layer_thickness, sec.shear, sec.hourglass_moduli,
-                            HOURGLASS_RATIO, s.layer_stress, s.shear_force, s.hourglass,
-                            self.shell_cell_forces)  # fmt: skip
-            gather_cell_forces(self.shell_cell_forces, m.bat.cells, self.bat_forces)
+            args = (self.bat_points, m.bat.cells, self.bat_velocity, self.dt, sec.cell_laminate,
+                    sec.layer_stiffness, sec.layer_z, sec.layer_thickness, sec.shear,
+                    sec.hourglass_moduli, HOURGLASS_RATIO, s.block_start,
+                    s.history)  # fmt: skip
+            if nb.get_num_threads() == 1:  # assembled in the kernel: the same sums, in one pass
+                bt_nodal_force_kernel(*args, self.bat_forces)
+            else:
+                bt_force_kernel(*args, self.shell_cell_forces)
+                gather_cell_forces(self.shell_cell_forces, m.bat.cells, self.bat_forces)
             self.bat_forces *= -1.0  # f_int -> force on the nodes
         self.timed("bat_forces", clock)
         ball_dt = self.controls.time_step_scale * float(cell_dt.min())
