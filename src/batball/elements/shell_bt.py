@@ -614,6 +614,54 @@ def bt_nodal_force_kernel(points: np.ndarray, cells: np.ndarray, velocity: np.nd
                    ratio, block_start, history, nodal, True)  # fmt: skip
 
 
+@nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
+def bt_slot_force_kernel(points: np.ndarray, cells: np.ndarray, velocity: np.ndarray,
+                         dt: float, cell_laminate: np.ndarray, layer_stiffness: np.ndarray,
+                         layer_z: np.ndarray, layer_thickness: np.ndarray, shear: np.ndarray,
+                         moduli: np.ndarray, ratio: float, block_start: np.ndarray,
+                         history: np.ndarray, slots: np.ndarray,
+                         slot_nodes: np.ndarray) -> None:  # fmt: skip
+    """:func:`bt_nodal_force_kernel` on several threads: the blocks split into
+    ``slots.shape[0]`` equal contiguous runs, run k adding f_int into ``slots[k]`` (n_slots,
+    n_points, 6), cleared first inside its node range ``slot_nodes[k]`` (:func:`slot_node_ranges`),
+    so that each nodal array has one writer and no per-cell force array is written and read back.
+    :func:`sum_slots` adds the slots up. The sums depend on the number of slots (a node shared by
+    two runs is summed in two parts), not on the threads' scheduling."""
+    section = kernel_section(layer_stiffness, layer_z, layer_thickness, shear, moduli, history)
+    n_blocks = block_start.size - 1
+    n_slots = slots.shape[0]
+    for k in nb.prange(n_slots):
+        slots[k, slot_nodes[k, 0] : slot_nodes[k, 1], :6] = 0.0
+        advance_blocks(k * n_blocks // n_slots, (k + 1) * n_blocks // n_slots, points, cells,
+                       velocity, dt, cell_laminate, section, ratio, block_start, history,
+                       slots[k], True)  # fmt: skip
+
+
+def slot_node_ranges(cells: np.ndarray, block_start: np.ndarray, n_slots: int) -> np.ndarray:
+    """The node ids each run of :func:`bt_slot_force_kernel` can write, (n_slots, 2) as
+    [lowest, highest + 1] over the run's cells (empty runs get [0, 0])."""
+    n_blocks = block_start.size - 1
+    ranges = np.zeros((n_slots, 2), dtype=np.int64)
+    for k in range(n_slots):
+        first = block_start[k * n_blocks // n_slots]
+        last = block_start[(k + 1) * n_blocks // n_slots]
+        if last > first:
+            ranges[k] = cells[first:last].min(), cells[first:last].max() + 1
+    return ranges
+
+
+@nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
+def sum_slots(slots: np.ndarray, slot_nodes: np.ndarray, scale: float, out: np.ndarray) -> None:
+    """out[:, :6] = scale times the sum of the slots holding each node (slot order)."""
+    for n in nb.prange(out.shape[0]):
+        for i in range(6):
+            total = 0.0
+            for k in range(slots.shape[0]):
+                if slot_nodes[k, 0] <= n < slot_nodes[k, 1]:
+                    total += slots[k, n, i]
+            out[n, i] = scale * total
+
+
 def bt_internal_forces(
     points: np.ndarray,
     cells: np.ndarray,

@@ -33,16 +33,18 @@ import numpy as np
 
 from batball.contact.segments import SegmentContact
 from batball.elements.hex8 import compute_hex8_forces
-from batball.elements.hex8_block import constants_terms, pack_history
+from batball.elements.hex8_block import PRECISIONS, constants_terms, pack_history
 from batball.elements.hex8_foam import N_FOAM_HISTORY, compute_foam_forces
 from batball.elements.shell_bt import (
     HOURGLASS_RATIO,
     ShellForceState,
-    bt_force_kernel,
     bt_nodal_force_kernel,
+    bt_slot_force_kernel,
+    slot_node_ranges,
+    sum_slots,
 )
 from batball.elements.shell_bt_section import LayeredSection
-from batball.errors import SimulationError
+from batball.errors import SimulationError, SpecError
 from batball.materials.foam import FoamTable
 from batball.numerics import FASTMATH
 
@@ -129,13 +131,19 @@ class CoupledModel:
 @dataclass(frozen=True)
 class CoupledControls:
     """Run controls: end time [s], TSSFAC, search interval [cycles], separation time [s] (stop
-    once the ball-bat contact has been open this long), and the energy run-away limit."""
+    once the ball-bat contact has been open this long), the energy run-away limit, and the
+    precision of the ball's hex kernel ("double" or "single"; ``ExplicitControls.precision``)."""
 
     end_time: float = 2e-3
     time_step_scale: float = 0.9
     search_interval: int = 10
     separation_time: float | None = 0.2e-3
     max_energy_error: float = 0.2
+    precision: str = "double"
+
+    def __post_init__(self) -> None:
+        if self.precision not in PRECISIONS:
+            raise SpecError("precision", self.precision, " or ".join(map(repr, PRECISIONS)))
 
 
 #: Time constant of the contact-force average that picks the peak-force picture [s].
@@ -215,14 +223,15 @@ class BallState:
     hg_state: np.ndarray  # a foam ball's stiffness-form hourglass forces (n_cells, 4, 3) [N]
 
     @classmethod
-    def initial(cls, part: BallPart) -> BallState:
-        """Unstressed ball."""
+    def initial(cls, part: BallPart, precision: str = "double") -> BallState:
+        """Unstressed ball (the hex kernel's history in ``precision``)."""
         n = part.cells.shape[0]
         n_slots = max(1, min(n, nb.get_num_threads()))  # one per thread (compute_hex8_forces)
         n_points = len(part.mass)
         n_terms = constants_terms(part.material_constants)
         n_foam = n if part.foam is not None else 0
-        return cls(np.zeros(n, dtype=np.int64), pack_history(part.volume0, n_terms=n_terms),
+        history = pack_history(part.volume0, n_terms=n_terms, dtype=PRECISIONS[precision])
+        return cls(np.zeros(n, dtype=np.int64), history,
                    np.zeros((n_slots, n_points, 3)), np.zeros(n), np.zeros(n),
                    np.zeros((n_slots, 3)), np.zeros((n_foam, N_FOAM_HISTORY)),
                    np.zeros((n_foam, 4, 3)))  # fmt: skip
@@ -407,11 +416,14 @@ class CoupledSolver:
         self.ball_total_mass = float(model.ball.mass.sum())
         self.ball_sums = np.zeros(7)  # advance_ball's bookkeeping
         self.bat_sums = np.zeros(4)  # advance_bat's
-        self.ball_state = BallState.initial(model.ball)
+        self.ball_state = BallState.initial(model.ball, controls.precision)
         self.shell_state = model.shell_state
         self.ball_forces = np.zeros_like(self.ball_velocity)
         self.bat_forces = np.zeros((n_bat, 6))
-        self.shell_cell_forces = np.zeros((model.bat.cells.shape[0], 4, 6))
+        n_slots = max(1, min(nb.get_num_threads(), len(self.shell_state.block_start) - 1))
+        self.bat_slots = np.zeros((n_slots, n_bat, 6))  # bt_slot_force_kernel's nodal arrays
+        self.bat_slot_nodes = slot_node_ranges(model.bat.cells, self.shell_state.block_start,
+                                               n_slots)  # fmt: skip
         self.contact_forces = np.zeros_like(self.points)
         self.ball_moving = np.ones(self.ball_points.shape[0], dtype=np.bool_)
         self.bat_moving = np.ones(n_bat, dtype=np.bool_)
@@ -457,12 +469,12 @@ class CoupledSolver:
                     sec.layer_stiffness, sec.layer_z, sec.layer_thickness, sec.shear,
                     sec.hourglass_moduli, HOURGLASS_RATIO, s.block_start,
                     s.history)  # fmt: skip
-            if nb.get_num_threads() == 1:  # assembled in the kernel: the same sums, in one pass
+            if self.bat_slots.shape[0] == 1:  # assembled in the kernel: one serial pass
                 bt_nodal_force_kernel(*args, self.bat_forces)
-            else:
-                bt_force_kernel(*args, self.shell_cell_forces)
-                gather_cell_forces(self.shell_cell_forces, m.bat.cells, self.bat_forces)
-            self.bat_forces *= -1.0  # f_int -> force on the nodes
+                self.bat_forces *= -1.0  # f_int -> force on the nodes
+            else:  # one nodal array per thread, summed (and negated) in parallel
+                bt_slot_force_kernel(*args, self.bat_slots, self.bat_slot_nodes)
+                sum_slots(self.bat_slots, self.bat_slot_nodes, -1.0, self.bat_forces)
         self.timed("bat_forces", clock)
         ball_dt = self.controls.time_step_scale * float(cell_dt.min())
         return min(ball_dt, m.bat.stable_step)
@@ -507,7 +519,7 @@ class CoupledSolver:
             peak = max(peak, kinetic)
             self.relax_history.append(kinetic)
         self.bat_velocity[:] = 0.0
-        self.ball_state = BallState.initial(m.ball)
+        self.ball_state = BallState.initial(m.ball, self.controls.precision)
         self.dt, self.energies[:] = 0.0, 0.0
         return kinetic / peak if peak > 0 else 0.0
 

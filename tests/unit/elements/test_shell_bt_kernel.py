@@ -31,7 +31,10 @@ from batball.elements.shell_bt import (
     HOURGLASS_RATIO,
     bt_force_kernel,
     bt_nodal_force_kernel,
+    bt_slot_force_kernel,
     pack_force_state,
+    slot_node_ranges,
+    sum_slots,
 )
 from batball.elements.shell_bt_scalar import bt_force_kernel_scalar
 from batball.elements.shell_bt_section import LayeredSection, layered_section
@@ -163,6 +166,41 @@ def test_fused_assembly_is_the_serial_sum_of_the_cell_forces() -> None:
         assert np.all(np.isnan(nodal_forces[step][:, 6]))
     for a, b in zip(nodal_state, cell_state, strict=True):
         assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("n_slots", [1, 3])
+def test_slot_kernel_sums_to_the_serial_assembly(n_slots: int) -> None:
+    """The parallel fused kernel (one nodal array per run of blocks, summed by sum_slots) gives
+    the serial assembly to round-off (a node shared by two runs is summed in two parts: a few
+    ulps of the largest force, RTOL as above) and the same state bits; each run writes only
+    inside its node range."""
+    rng = np.random.default_rng(11)
+    points, cells, section = curved_mesh(rng)
+    state = random_state(rng, section)
+    velocities = [rng.normal(0.0, 1.0, (points.shape[0], 6)) for _ in range(3)]
+    n_points = points.shape[0]
+    serial, serial_state = run(bt_nodal_force_kernel, points, cells, section, velocities, 1e-7,
+                               state, (n_points, 6))  # fmt: skip
+    packed = pack_force_state(section.cell_laminate, *state)
+    ranges = slot_node_ranges(cells, packed.block_start, n_slots)
+    slots = np.full((n_slots, n_points, 6), np.nan)  # outside its range a slot is never read
+    moved = points.copy()
+    for step, velocity in enumerate(velocities):
+        bt_slot_force_kernel(moved, cells, velocity, 1e-7, section.cell_laminate,
+                             section.layer_stiffness, section.layer_z, section.layer_thickness,
+                             section.shear, section.hourglass_moduli, HOURGLASS_RATIO,
+                             packed.block_start, packed.history, slots, ranges)  # fmt: skip
+        total = np.full((n_points, 6), np.nan)
+        sum_slots(slots, ranges, -1.0, total)
+        assert_close(-total, serial[step], f"forces of step {step}")
+        if n_slots == 1:
+            assert np.array_equal(-total, serial[step])
+        moved += 1e-7 * velocity[:, :3]
+    for a, b in zip((packed.layer_stress, packed.shear_force, packed.hourglass), serial_state,
+                    strict=True):  # fmt: skip
+        assert np.array_equal(a, b)
+    assert ranges[0, 0] == 0 and ranges[-1, 1] == n_points
+    assert np.all(ranges[:, 1] > ranges[:, 0])
 
 
 def test_block_layout_of_the_state() -> None:
