@@ -44,16 +44,21 @@ def add_impact_parser(sub: Any, test: str, help_text: str) -> None:
         default=0.01,
         help="contact-time level as a fraction of the peak force (default 0.01)",
     )
+    add_precision_option(p)
+    add_store_options(p)
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(handler=run_impact_command, test=test)
+
+
+def add_precision_option(p: Any) -> None:
+    """``--precision``: the ball's element arithmetic (docs/precision.md)."""
     p.add_argument(
         "--precision",
         choices=("single", "double"),
         default="single",
         help="element arithmetic of the ball (default single, as LS-DYNA's default executable; "
-        "results agree with double to about 1e-6, docs/precision.md)",
+        "results agree with double to about 1e-6 in CCOR, docs/precision.md)",
     )
-    add_store_options(p)
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(handler=run_impact_command, test=test)
 
 
 def add_store_options(p: Any) -> None:
@@ -717,6 +722,7 @@ def add_bbs_parser(sub: Any) -> None:
                    help="selective mass scaling of the shells below a target step (LS-DYNA "
                         "DT2MS < 0): barrel (default: the barrel's or the ball's step), off, "
                         "or the target step, e.g. '2e-7 s'")  # fmt: skip
+    add_precision_option(p)
     add_store_options(p)
     p.set_defaults(handler=run_bbs_command)
 
@@ -740,7 +746,7 @@ def bbs_setup(args: argparse.Namespace) -> Any:
         ball_divisions=args.ball_divisions, circumferential=mesh["circumferential"],
         axial_size=mesh["axial_size"], rigid_bat=args.rigid_bat,
         end_time=parse_quantity(args.end_time, "time", field="end-time"),
-        mass_scaling=mass_scaling_option(args.mass_scaling),
+        mass_scaling=mass_scaling_option(args.mass_scaling), precision=args.precision,
     )  # fmt: skip
 
 

@@ -92,8 +92,11 @@ def read_bbs_deck(
     separation_time: float = BbsSetup.separation_time,
     pitch_speed: float = BbsSetup.pitch_speed,
     swing_speed: float = BbsSetup.swing_speed,
+    precision: str = BbsSetup.precision,
 ) -> BbsDeck:
-    """Turn a bbs :class:`BatDeck` into the bbs test's specs, setup and model (module docs)."""
+    """Turn a bbs :class:`BatDeck` into the bbs test's specs, setup and model (module docs);
+    ``precision`` is the ball kernel's (a run option, not in the deck: LS-DYNA's precision is
+    the executable's)."""
     u = unit_system(bat.units)
     ball_pid = check_bbs_keywords(bat)
     spec = spec_from_deck(bat)
@@ -111,7 +114,7 @@ def read_bbs_deck(
         end_time=controls.end_time, separation_time=separation_time,
         time_step_scale=controls.time_step_scale, hourglass=_hourglass(bat.deck, [ball_pid]),
         bulk_viscosity=controls.bulk_viscosity, contact=ball_contact_options(bat, ball_pid),
-        rigid_bat=band.size == bat.mesh.n_points, **mesh_sizes(bat),
+        rigid_bat=band.size == bat.mesh.n_points, precision=precision, **mesh_sizes(bat),
     )  # fmt: skip
     where = bat.deck.nodal_rigid_bodies[0]["where"]
     model = with_pivot(build_bbs_model(spec, ball, setup), band, where)
@@ -313,14 +316,14 @@ def check_ball_rebuilds(model: BbsModel, ball_mesh: Mesh, spec: BatSpec) -> None
                         "batball's O-grid ball (as batball export bbs writes it)")  # fmt: skip
 
 
-def run_bbs_deck(bat: BatDeck, *, separation_time: float = BbsSetup.separation_time
-                 ) -> dict[str, Any]:  # fmt: skip
+def run_bbs_deck(bat: BatDeck, *, separation_time: float = BbsSetup.separation_time,
+                 precision: str = BbsSetup.precision) -> dict[str, Any]:  # fmt: skip
     """Run a bbs deck as ``batball bbs`` runs its specs; the same summary keys (no run folder),
     with the deck's pivot."""
     from batball.lab.bbs_run import summarise_bbs
 
     start = time.perf_counter()
-    read = read_bbs_deck(bat, separation_time=separation_time)
+    read = read_bbs_deck(bat, separation_time=separation_time, precision=precision)
     run = run_bbs_model(read.model, read.setup)
     result = BbsResult(read.bat, read.ball, read.setup, read.model, run,
                        measure_bbs(read.model, run, read.setup))  # fmt: skip

@@ -31,6 +31,7 @@ import numpy as np
 
 from batball.contact.segments import SegmentContact
 from batball.contact.shell_contact import nodal_areas
+from batball.elements.hex8_block import PRECISIONS
 from batball.elements.shell_bt import initial_force_state
 from batball.elements.shell_bt_section import HG_THICKNESS, LayeredSection, layered_section
 from batball.elements.shell_explicit import (
@@ -91,6 +92,8 @@ class BbsSetup:
             "barrel" (default) adds mass only to the shells whose step is below the smaller of
             the barrel's (its parts and the insert) and the ball's, so that those set the step;
             a float is the target step itself [s] (TSSFAC |DT2MS|); None: no mass added.
+        precision: the ball's hex kernel, "single" (default, as the impact lab and LS-DYNA's
+            default executable) or "double" (docs/precision.md).
     """
 
     speed: float = 110.0 * MPH
@@ -118,6 +121,7 @@ class BbsSetup:
     relax_steps: tuple[int, int] = (400, 800)
     mass_scaling: float | str | None = "barrel"
     contact_reach: float | None = 3.0 * IN
+    precision: str = "single"
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.speed) and 0 < self.speed <= 100.0):
@@ -130,6 +134,8 @@ class BbsSetup:
             raise SpecError("ball_divisions", self.ball_divisions, "an integer 2..40 (12 = seed)")
         if not 8 <= self.circumferential <= 256:
             raise SpecError("circumferential", self.circumferential, "an integer 8..256")
+        if self.precision not in PRECISIONS:
+            raise SpecError("precision", self.precision, " or ".join(map(repr, PRECISIONS)))
         if not 0.01 * IN <= self.axial_size <= 2.0 * IN:
             raise SpecError("axial_size", f"{self.axial_size / IN:.4g} in", "0.01 in .. 2 in")
         if not 0.0 < self.pivot_band <= 3.0 * IN:
@@ -372,7 +378,8 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
     time or separation."""
     controls = CoupledControls(end_time=setup.end_time, time_step_scale=setup.time_step_scale,
                                search_interval=setup.search_interval,
-                               separation_time=setup.separation_time)  # fmt: skip
+                               separation_time=setup.separation_time,
+                               precision=setup.precision)  # fmt: skip
     solver = CoupledSolver(model.coupled, controls)
     inserts = model.coupled.contacts[model.coupled.ball_contacts :]
     ratio, pressure = float("nan"), float("nan")
