@@ -594,7 +594,7 @@ def add_export_parser(sub: Any) -> None:
     p.add_argument("--long", action="store_true", help="long format: 20-column fields")
     p.add_argument("-o", "--output", required=True, help="the deck file to write (.k)")
     add_bat_export_options(p)
-    p.set_defaults(handler=run_export_command, contact_threshold=0.01)
+    p.set_defaults(handler=run_export_command, contact_threshold=0.01, precision="single")
 
 
 def run_export_command(args: argparse.Namespace) -> int:
@@ -640,6 +640,7 @@ def add_run_deck_parser(sub: Any) -> None:
     p.add_argument(
         "--displacement", default="0.25 in", help="compression decks: where the force is read"
     )
+    add_precision_option(p)
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=run_deck_command)
 
@@ -659,8 +660,9 @@ def run_deck_command(args: argparse.Namespace) -> int:
     )
     displacement = parse_quantity(args.displacement, "length", field="displacement")
     deck = read_deck(
-        args.deck, units=args.units, separation_time=separation, displacement=displacement
-    )
+        args.deck, units=args.units, separation_time=separation, displacement=displacement,
+        precision=args.precision,
+    )  # fmt: skip
     unit = "s" if deck.test == "compression" else "ms"
     update, bar = progress_bar(deck.controls.end_time, enabled=True, unit=unit)
     try:
@@ -931,7 +933,7 @@ def run_bbs_deck_command(args: argparse.Namespace, bat: Any) -> int:
     if text.strip().lower() == "none":
         raise SpecError("separation-time", text, "a time: the rebound is read over it (0.2 ms)")
     separation = parse_quantity(text, "time", field="separation-time")
-    summary = run_bbs_deck(bat, separation_time=separation)
+    summary = run_bbs_deck(bat, separation_time=separation, precision=args.precision)
     summary["deck"] = str(args.deck)
     summary["run_folder"] = None
     if args.json:

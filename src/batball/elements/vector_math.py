@@ -76,7 +76,10 @@ def like(x: float, value: float) -> float:
     return value
 
 
-@overload(like, inline="always")
+# Not inline="always": Numba's IR inlining of this overload gave the foam kernel (a function
+# without fast-math that inlines the geometry twice) a zero element volume in a fresh cache
+# (tests/unit/elements/test_hex8_foam.py); as an ordinary overload LLVM inlines it anyway.
+@overload(like)
 def _like_overload(x, value):  # noqa: ANN001, ANN202
     float_type = x if isinstance(x, types.Float) else types.float64
 

@@ -18,6 +18,7 @@ keyword_cards.UNIT_SYSTEMS`, in-lbf-s by default) and converted to SI.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -341,13 +342,16 @@ def read_deck(
     units: str = "in-lbf-s",
     separation_time: float | None = 0.1e-3,
     displacement: float = 0.25 * 0.0254,
+    precision: str = "single",
 ) -> DeckModel:
     """Read the deck at ``path`` (numbers in ``units``) into a :class:`DeckModel`.
 
     ``separation_time`` is batball's own stopping rule for impacts (run on this long after the
     last contact; None runs to the deck's ENDTIM), which LS-DYNA decks have no field for. A deck
     with a moving plate is a compression test, read at ``displacement`` of ball deformation
-    (F1888: 0.25 in), and runs to ENDTIM.
+    (F1888: 0.25 in), and runs to ENDTIM. ``precision`` is an impact deck's element arithmetic
+    (as ``batball ccor``'s; LS-DYNA's is the executable's, not the deck's); a compression deck
+    runs double, as ``batball compression``.
     """
     u = unit_system(units)
     deck = parse_deck(path)
@@ -385,6 +389,7 @@ def read_deck(
             "one velocity of the whole ball (impact) or a moving plate (compression)",
         )  # fmt: skip
     test = "ccor" if isinstance(contacts[0].target, RigidCylinder) else "cor"
+    controls = dataclasses.replace(controls, precision=precision)
     return DeckModel(model, controls, test, speed, deck.title, u.name)
 
 
