@@ -17,7 +17,7 @@ import numba as nb
 import numpy as np
 from llvmlite import ir
 from numba import types
-from numba.extending import intrinsic, overload
+from numba.extending import intrinsic
 
 from batball.numerics import FASTMATH
 
@@ -66,27 +66,26 @@ float_bits = cast("Callable[[float], int]", _float_bits)
 bits_float = cast("Callable[[int], float]", _bits_float)
 
 
-def like(x: float, value: float) -> float:
-    """``value`` in the float type of ``x`` (float32 or float64) inside Numba code.
+@intrinsic
+def _like(typingctx, x, value):  # noqa: ANN001, ANN202
+    """``value`` converted to the float type of ``x``: an LLVM cast (a constant folds)."""
+    if not isinstance(x, types.Float) or not isinstance(types.unliteral(value), types.Number):
+        return None
 
-    Numba types a Python float literal as float64 and float32 op float64 as float64, so a
-    literal in single-precision arithmetic would promote the whole expression; written
-    ``like(x, 0.5)`` it stays single (LLVM folds the conversion). Plain Python: ``value``.
-    """
-    return value
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        return context.cast(builder, args[1], signature.args[1], signature.return_type)
+
+    return x(x, types.unliteral(value)), codegen
 
 
-# Not inline="always": Numba's IR inlining of this overload gave the foam kernel (a function
-# without fast-math that inlines the geometry twice) a zero element volume in a fresh cache
-# (tests/unit/elements/test_hex8_foam.py); as an ordinary overload LLVM inlines it anyway.
-@overload(like)
-def _like_overload(x, value):  # noqa: ANN001, ANN202
-    float_type = x if isinstance(x, types.Float) else types.float64
-
-    def impl(x, value):  # noqa: ANN001, ANN202
-        return float_type(value)
-
-    return impl
+#: ``like(x, value)``: ``value`` in the float type of ``x`` (float32 or float64), inside Numba
+#: code. Numba types a Python float literal as float64 and float32 op float64 as float64, so a
+#: literal in single-precision arithmetic would promote the whole expression; written
+#: ``like(x, 0.5)`` it stays single. An intrinsic, so it is a cast in the caller's own IR: an
+#: overload was either a call LLVM did not inline (the element loop then did not vectorise) or,
+#: with ``inline="always"``, inlined at Numba's IR level, which gave the foam kernel a zero
+#: element volume in a fresh cache.
+like = cast("Callable[[float, float], float]", _like)
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
