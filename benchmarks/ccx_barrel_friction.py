@@ -36,20 +36,13 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ccx_barrel_nlgeom import (  # noqa: E402
-    BARREL,
-    INSERT,
     N_AROUND,
-    OUTER_RADIUS,
-    PLATEN_RADIUS,
     axial_stations,
     hexes,
     id_lines,
-    material_and_section_cards,
-    platen,
     platen_surface_cards,
     positive,
-    tube_nodes,
-    wall_radii,
+    tube_and_platen_cards,
 )
 
 INTERFERENCE = 0.001  # in, radial
@@ -60,29 +53,8 @@ TRAVEL = 0.07  # in, from first touch
 
 def deck(mu: float, penalty: float, nlgeom: bool) -> str:
     """The whole .inp: step 1 the fit, step 2 the platen travel."""
-    barrel_r = wall_radii(BARREL, OUTER_RADIUS)
-    insert_r = wall_radii(INSERT, barrel_r[0] + INTERFERENCE)
-    insert_ids, insert_xyz = tube_nodes(insert_r, 1)
-    barrel_ids, barrel_xyz = tube_nodes(barrel_r, int(insert_ids.max()) + 1)
-    platen_ids, platen_xyz, platen_surface = platen(int(barrel_ids.max()) + 1)
-    platen_xyz = platen_xyz + np.array([0.0, CLEARANCE, 0.0])
-    ref, rot = int(platen_ids.max()) + 1, int(platen_ids.max()) + 2
-    ref_xyz = np.array([[0.0, OUTER_RADIUS + PLATEN_RADIUS + CLEARANCE, 0.0]] * 2)
-    all_ids = np.concatenate([insert_ids.ravel(), barrel_ids.ravel(), platen_ids.ravel(),
-                              [ref, rot]])  # fmt: skip
-    all_xyz = np.concatenate([insert_xyz, barrel_xyz, platen_xyz, ref_xyz])
-    coords = dict(zip(all_ids.tolist(), all_xyz, strict=True))
-    lines = ["*NODE"] + [f"{i}, {p[0]:.10f}, {p[1]:.10f}, {p[2]:.10f}" for i, p in coords.items()]
-    lines += material_and_section_cards(insert_ids, barrel_ids, coords)
-    cells = positive(hexes(platen_ids), coords)
-    first = int(insert_ids.size + barrel_ids.size) * 2
-    lines += ["*ELEMENT, TYPE=C3D8, ELSET=PLATEN"]
-    lines += [f"{first + k}, " + ", ".join(map(str, c)) for k, c in enumerate(cells)]
-    lines += ["*MATERIAL, NAME=STEEL", "*ELASTIC", "3.0e7, 0.3",
-              "*SOLID SECTION, ELSET=PLATEN, MATERIAL=STEEL"]  # fmt: skip
-    lines += platen_surface_cards(cells, first, set(platen_surface.tolist()))
-    lines += id_lines("*NSET, NSET=NPLATEN", platen_ids)
-    lines += [f"*RIGID BODY, ELSET=PLATEN, REF NODE={ref}, ROT NODE={rot}"]
+    cards = tube_and_platen_cards(INTERFERENCE, CLEARANCE)
+    lines, insert_ids, barrel_ids, coords, ref, rot = cards
     lines += interface_cards(insert_ids, barrel_ids, coords, mu, penalty)
     lines += symmetry_cards(insert_ids, barrel_ids)
     outer = barrel_ids[:, :, -1]

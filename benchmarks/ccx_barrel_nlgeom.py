@@ -123,15 +123,21 @@ def wall_radii(plies: list[tuple[str, float, float]], outer: float) -> np.ndarra
     return outer - thickness.sum() + np.concatenate([[0.0], np.cumsum(thickness)])
 
 
-def deck(nlgeom: bool) -> str:
-    """The whole .inp."""
+def tube_and_platen_cards(
+    interference: float = 0.0, clearance: float = 0.0
+) -> tuple[list[str], np.ndarray, np.ndarray, dict[int, np.ndarray], int, int]:
+    """The nodes, ply elements and materials of the two walls (the insert's outer radius
+    ``interference`` above the barrel's inner one) and the rigid platen ``clearance`` above the
+    barrel; returns the cards, the insert's and barrel's node ids, the coordinates, and the
+    platen's reference and rotation nodes."""
     barrel_r = wall_radii(BARREL, OUTER_RADIUS)
-    insert_r = wall_radii(INSERT, barrel_r[0])
+    insert_r = wall_radii(INSERT, barrel_r[0] + interference)
     insert_ids, insert_xyz = tube_nodes(insert_r, 1)
     barrel_ids, barrel_xyz = tube_nodes(barrel_r, int(insert_ids.max()) + 1)
     platen_ids, platen_xyz, platen_surface = platen(int(barrel_ids.max()) + 1)
+    platen_xyz = platen_xyz + np.array([0.0, clearance, 0.0])
     ref, rot = int(platen_ids.max()) + 1, int(platen_ids.max()) + 2
-    ref_xyz = np.array([[0.0, OUTER_RADIUS + PLATEN_RADIUS, 0.0]] * 2)
+    ref_xyz = np.array([[0.0, OUTER_RADIUS + PLATEN_RADIUS + clearance, 0.0]] * 2)
     all_ids = np.concatenate([insert_ids.ravel(), barrel_ids.ravel(), platen_ids.ravel(),
                               [ref, rot]])  # fmt: skip
     all_xyz = np.concatenate([insert_xyz, barrel_xyz, platen_xyz, ref_xyz])
@@ -147,6 +153,12 @@ def deck(nlgeom: bool) -> str:
     lines += platen_surface_cards(cells, first, set(platen_surface.tolist()))
     lines += id_lines("*NSET, NSET=NPLATEN", platen_ids)
     lines += [f"*RIGID BODY, ELSET=PLATEN, REF NODE={ref}, ROT NODE={rot}"]
+    return lines, insert_ids, barrel_ids, coords, ref, rot
+
+
+def deck(nlgeom: bool) -> str:
+    """The whole .inp."""
+    lines, insert_ids, barrel_ids, _, ref, rot = tube_and_platen_cards()
     lines += tie_and_symmetry_cards(insert_ids, barrel_ids)
     outer = barrel_ids[:, :, -1]
     near = outer[: np.searchsorted(axial_stations(), 1.3), : N_AROUND // 2 + 1]
