@@ -248,6 +248,62 @@ def moment_to_global(e1: Vec3, e2: Vec3, f: float, g: float) -> Vec3:
     return (e1[0] * f + e2[0] * g, e1[1] * f + e2[1] * g, e1[2] * f + e2[2] * g)
 
 
+@nb.njit(inline="always", fastmath=FASTMATH)
+def local_geometry(x0: Vec3, x1: Vec3, x2: Vec3, x3: Vec3) -> tuple:
+    """The co-rotational frame (e1, e2, e3), the nodes' local x and y (4-tuples) on the plane
+    through the centroid, the area and B1 = dN/dx, B2 = dN/dy (4-tuples) of one quad."""
+    e1, e2, e3 = element_frame(x0, x1, x2, x3)
+    m = (0.25 * (x0[0] + x1[0] + x2[0] + x3[0]), 0.25 * (x0[1] + x1[1] + x2[1] + x3[1]),
+         0.25 * (x0[2] + x1[2] + x2[2] + x3[2]))  # fmt: skip
+    p0, q0 = local_xy(e1, e2, m, x0)
+    p1, q1 = local_xy(e1, e2, m, x1)
+    p2, q2 = local_xy(e1, e2, m, x2)
+    p3, q3 = local_xy(e1, e2, m, x3)
+    area = 0.5 * ((p2 - p0) * (q3 - q1) + (p1 - p3) * (q2 - q0))
+    half = 0.5 / area
+    b1 = (half * (q1 - q3), half * (q2 - q0), half * (q3 - q1), half * (q0 - q2))
+    b2 = (half * (p3 - p1), half * (p0 - p2), half * (p1 - p3), half * (p2 - p0))
+    return (e1, e2, e3), (p0, p1, p2, p3), (q0, q1, q2, q3), area, b1, b2
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def strain_rates(b1: tuple, b2: tuple, u0: tuple, u1: tuple, u2: tuple, u3: tuple) -> tuple:
+    """Membrane rates (d_x, d_y, 2 d_xy), curvature rates (kappa_x, kappa_y, 2 kappa_xy) and
+    transverse shear rates (gamma_xz, gamma_yz) from the nodes' local velocities u (6-tuples),
+    summed over the nodes in order (as the reference kernel)."""
+    d0 = b1[0] * u0[0] + b1[1] * u1[0] + b1[2] * u2[0] + b1[3] * u3[0]
+    d1 = b2[0] * u0[1] + b2[1] * u1[1] + b2[2] * u2[1] + b2[3] * u3[1]
+    d2 = ((b2[0] * u0[0] + b1[0] * u0[1]) + (b2[1] * u1[0] + b1[1] * u1[1])
+          + (b2[2] * u2[0] + b1[2] * u2[1]) + (b2[3] * u3[0] + b1[3] * u3[1]))  # fmt: skip
+    k0 = b1[0] * u0[4] + b1[1] * u1[4] + b1[2] * u2[4] + b1[3] * u3[4]
+    k1 = -b2[0] * u0[3] - b2[1] * u1[3] - b2[2] * u2[3] - b2[3] * u3[3]
+    k2 = ((b2[0] * u0[4] - b1[0] * u0[3]) + (b2[1] * u1[4] - b1[1] * u1[3])
+          + (b2[2] * u2[4] - b1[2] * u2[3]) + (b2[3] * u3[4] - b1[3] * u3[3]))  # fmt: skip
+    g0 = ((b1[0] * u0[2] + 0.25 * u0[4]) + (b1[1] * u1[2] + 0.25 * u1[4])
+          + (b1[2] * u2[2] + 0.25 * u2[4]) + (b1[3] * u3[2] + 0.25 * u3[4]))  # fmt: skip
+    g1 = ((b2[0] * u0[2] - 0.25 * u0[3]) + (b2[1] * u1[2] - 0.25 * u1[3])
+          + (b2[2] * u2[2] - 0.25 * u2[3]) + (b2[3] * u3[2] - 0.25 * u3[3]))  # fmt: skip
+    return (d0, d1, d2), (k0, k1, k2), (g0, g1)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def hourglass_vector(p: tuple, q: tuple, b1: tuple, b2: tuple) -> tuple:
+    """gamma = h - (h . x) B1 - (h . y) B2 with h = (1, -1, 1, -1) (a 4-tuple), and sum B.B."""
+    hx, hy = p[0] - p[1] + p[2] - p[3], q[0] - q[1] + q[2] - q[3]
+    h0, h1 = 1.0 - hx * b1[0] - hy * b2[0], -1.0 - hx * b1[1] - hy * b2[1]
+    h2, h3 = 1.0 - hx * b1[2] - hy * b2[2], -1.0 - hx * b1[3] - hy * b2[3]
+    bb = ((b1[0] * b1[0] + b2[0] * b2[0]) + (b1[1] * b1[1] + b2[1] * b2[1])
+          + (b1[2] * b1[2] + b2[2] * b2[2]) + (b1[3] * b1[3] + b2[3] * b2[3]))  # fmt: skip
+    return (h0, h1, h2, h3), bb
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def hourglass_increment(old: float, c: float, t: tuple, u0: tuple, u1: tuple, u2: tuple,
+                        u3: tuple, i: int) -> float:  # fmt: skip
+    """old + c gamma_I dt u_I[i], each node's increment added in turn (as the reference)."""
+    return old + c * t[0] * u0[i] + c * t[1] * u1[i] + c * t[2] * u2[i] + c * t[3] * u3[i]
+
+
 @nb.njit(fastmath=FASTMATH, error_model="numpy")
 def block_kinematics(w: np.ndarray, n: int, dt: float, shear: tuple[float, float, float, float],
                      c_hg: tuple[float, float, float]) -> None:  # fmt: skip
@@ -262,71 +318,39 @@ def block_kinematics(w: np.ndarray, n: int, dt: float, shear: tuple[float, float
         c_hg: r A_max [N/m], r D_max [N m], r H_max t^2 [N m] of the hourglass constants.
     """
     for e in range(n):
-        x0, x1 = load3(w, R_X, e), load3(w, R_X + 3, e)
-        x2, x3 = load3(w, R_X + 6, e), load3(w, R_X + 9, e)
-        e1, e2, e3 = element_frame(x0, x1, x2, x3)
-        m = (0.25 * (x0[0] + x1[0] + x2[0] + x3[0]), 0.25 * (x0[1] + x1[1] + x2[1] + x3[1]),
-             0.25 * (x0[2] + x1[2] + x2[2] + x3[2]))  # fmt: skip
-        p0, q0 = local_xy(e1, e2, m, x0)
-        p1, q1 = local_xy(e1, e2, m, x1)
-        p2, q2 = local_xy(e1, e2, m, x2)
-        p3, q3 = local_xy(e1, e2, m, x3)
-        area = 0.5 * ((p2 - p0) * (q3 - q1) + (p1 - p3) * (q2 - q0))
-        half = 0.5 / area
-        b10, b11, b12, b13 = half * (q1 - q3), half * (q2 - q0), half * (q3 - q1), half * (q0 - q2)
-        b20, b21, b22, b23 = half * (p3 - p1), half * (p0 - p2), half * (p1 - p3), half * (p2 - p0)
+        frame, p, q, area, b1, b2 = local_geometry(
+            load3(w, R_X, e), load3(w, R_X + 3, e), load3(w, R_X + 6, e), load3(w, R_X + 9, e)
+        )
+        e1, e2, e3 = frame
         u0 = local_velocity(e1, e2, e3, w, R_V, e)
         u1 = local_velocity(e1, e2, e3, w, R_V + 6, e)
         u2 = local_velocity(e1, e2, e3, w, R_V + 12, e)
         u3 = local_velocity(e1, e2, e3, w, R_V + 18, e)
-        # strain rates, summed over the nodes in order (as the reference kernel)
-        d0 = b10 * u0[0] + b11 * u1[0] + b12 * u2[0] + b13 * u3[0]
-        d1 = b20 * u0[1] + b21 * u1[1] + b22 * u2[1] + b23 * u3[1]
-        d2 = ((b20 * u0[0] + b10 * u0[1]) + (b21 * u1[0] + b11 * u1[1])
-              + (b22 * u2[0] + b12 * u2[1]) + (b23 * u3[0] + b13 * u3[1]))  # fmt: skip
-        k0 = b10 * u0[4] + b11 * u1[4] + b12 * u2[4] + b13 * u3[4]
-        k1 = -b20 * u0[3] - b21 * u1[3] - b22 * u2[3] - b23 * u3[3]
-        k2 = ((b20 * u0[4] - b10 * u0[3]) + (b21 * u1[4] - b11 * u1[3])
-              + (b22 * u2[4] - b12 * u2[3]) + (b23 * u3[4] - b13 * u3[3]))  # fmt: skip
-        g0 = ((b10 * u0[2] + 0.25 * u0[4]) + (b11 * u1[2] + 0.25 * u1[4])
-              + (b12 * u2[2] + 0.25 * u2[4]) + (b13 * u3[2] + 0.25 * u3[4]))  # fmt: skip
-        g1 = ((b20 * u0[2] - 0.25 * u0[3]) + (b21 * u1[2] - 0.25 * u1[3])
-              + (b22 * u2[2] - 0.25 * u2[3]) + (b23 * u3[2] - 0.25 * u3[3]))  # fmt: skip
-        sx = w[at(R_SHEAR, e)] + (shear[0] * g0 + shear[1] * g1) * dt
-        sy = w[at(R_SHEAR + 1, e)] + (shear[2] * g0 + shear[3] * g1) * dt
-        # hourglass: gamma = h - (h . x) B1 - (h . y) B2, h = (1, -1, 1, -1)
-        hx, hy = p0 - p1 + p2 - p3, q0 - q1 + q2 - q3
-        h0, h1 = 1.0 - hx * b10 - hy * b20, -1.0 - hx * b11 - hy * b21
-        h2, h3 = 1.0 - hx * b12 - hy * b22, -1.0 - hx * b13 - hy * b23
-        bb = ((b10 * b10 + b20 * b20) + (b11 * b11 + b21 * b21) + (b12 * b12 + b22 * b22)
-              + (b13 * b13 + b23 * b23))  # fmt: skip
+        d, k, g = strain_rates(b1, b2, u0, u1, u2, u3)
+        sx = w[at(R_SHEAR, e)] + (shear[0] * g[0] + shear[1] * g[1]) * dt
+        sy = w[at(R_SHEAR + 1, e)] + (shear[2] * g[0] + shear[3] * g[1]) * dt
+        h, bb = hourglass_vector(p, q, b1, b2)
         c_m = c_hg[0] * area * bb / 8.0
         c_b = c_hg[1] * area * bb / 16.0
         c_w = c_hg[2] * bb / 12.0
-        t0, t1, t2, t3 = h0 * dt, h1 * dt, h2 * dt, h3 * dt
-        # each node's increment added in turn (as the reference kernel)
-        hg0 = (w[at(R_HOURGLASS + 0, e)] + c_m * t0 * u0[0] + c_m * t1 * u1[0]
-               + c_m * t2 * u2[0] + c_m * t3 * u3[0])  # fmt: skip
-        hg1 = (w[at(R_HOURGLASS + 1, e)] + c_m * t0 * u0[1] + c_m * t1 * u1[1]
-               + c_m * t2 * u2[1] + c_m * t3 * u3[1])  # fmt: skip
-        hg2 = (w[at(R_HOURGLASS + 2, e)] + c_b * t0 * u0[3] + c_b * t1 * u1[3]
-               + c_b * t2 * u2[3] + c_b * t3 * u3[3])  # fmt: skip
-        hg3 = (w[at(R_HOURGLASS + 3, e)] + c_b * t0 * u0[4] + c_b * t1 * u1[4]
-               + c_b * t2 * u2[4] + c_b * t3 * u3[4])  # fmt: skip
-        hg4 = (w[at(R_HOURGLASS + 4, e)] + c_w * t0 * u0[2] + c_w * t1 * u1[2]
-               + c_w * t2 * u2[2] + c_w * t3 * u3[2])  # fmt: skip
+        t = (h[0] * dt, h[1] * dt, h[2] * dt, h[3] * dt)
+        hg0 = hourglass_increment(w[at(R_HOURGLASS + 0, e)], c_m, t, u0, u1, u2, u3, 0)
+        hg1 = hourglass_increment(w[at(R_HOURGLASS + 1, e)], c_m, t, u0, u1, u2, u3, 1)
+        hg2 = hourglass_increment(w[at(R_HOURGLASS + 2, e)], c_b, t, u0, u1, u2, u3, 3)
+        hg3 = hourglass_increment(w[at(R_HOURGLASS + 3, e)], c_b, t, u0, u1, u2, u3, 4)
+        hg4 = hourglass_increment(w[at(R_HOURGLASS + 4, e)], c_w, t, u0, u1, u2, u3, 2)
         store3(w, R_FRAME, e, e1)
         store3(w, R_FRAME + 3, e, e2)
         store3(w, R_FRAME + 6, e, e3)
-        store3(w, R_B, e, (b10, b11, b12))
-        store3(w, R_B + 3, e, (b13, b20, b21))
-        w[at(R_B + 6, e)] = b22
-        w[at(R_B + 7, e)] = b23
+        store3(w, R_B, e, (b1[0], b1[1], b1[2]))
+        store3(w, R_B + 3, e, (b1[3], b2[0], b2[1]))
+        w[at(R_B + 6, e)] = b2[2]
+        w[at(R_B + 7, e)] = b2[3]
         w[at(R_AREA, e)] = area
-        store3(w, R_GAMMA, e, (h0, h1, h2))
-        w[at(R_GAMMA + 3, e)] = h3
-        store3(w, R_RATE, e, (d0, d1, d2))
-        store3(w, R_RATE + 3, e, (k0, k1, k2))
+        store3(w, R_GAMMA, e, (h[0], h[1], h[2]))
+        w[at(R_GAMMA + 3, e)] = h[3]
+        store3(w, R_RATE, e, d)
+        store3(w, R_RATE + 3, e, k)
         w[at(R_SHEAR, e)] = sx
         w[at(R_SHEAR + 1, e)] = sy
         store3(w, R_HOURGLASS, e, (hg0, hg1, hg2))
