@@ -16,12 +16,25 @@ import argparse
 import json
 import time
 
+import numba as nb
 import numpy as np
 
 from batball.elements.shell_bt import HOURGLASS_RATIO, bt_force_kernel, initial_force_state
 from batball.lab.bbs import IN, BbsSetup, build_bbs_model
-from batball.solvers.ball_bat import gather_cell_forces
 from batball.specs import load_ball_spec, load_bat_spec
+
+
+@nb.njit
+def gather_cell_forces(cell_forces: np.ndarray, cells: np.ndarray, forces: np.ndarray) -> None:
+    """forces[cells[c, a]] = sum of cell_forces[c, a] (serial: no race); (n_cells, k, m) into
+    (n_points, >= m), the first m columns overwritten."""
+    m = cell_forces.shape[2]
+    forces[:, :m] = 0.0
+    for c in range(cells.shape[0]):
+        for a in range(cells.shape[1]):
+            node = cells[c, a]
+            for k in range(m):
+                forces[node, k] += cell_forces[c, a, k]
 
 
 def main() -> None:

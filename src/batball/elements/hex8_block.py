@@ -22,6 +22,7 @@ from batball.elements.hex8_kinematics import (
 )
 from batball.elements.hex8_response import element_response
 from batball.elements.vector_math import like
+from batball.errors import SpecError
 from batball.materials.viscoelastic import viscoelastic_step_factors
 from batball.numerics import FASTMATH
 
@@ -57,6 +58,12 @@ N_HOURGLASS_ROWS = R_MAT - R_HG
 #: The precisions of the element arithmetic, by name: the dtype of the kernel's history and
 #: scratch. "single" is LS-DYNA's default executable; nodes, contact and energies stay double.
 PRECISIONS = {"single": np.float32, "double": np.float64}
+
+
+def check_precision(precision: str) -> None:
+    """A SpecError naming the field and the choices unless ``precision`` is in PRECISIONS."""
+    if precision not in PRECISIONS:
+        raise SpecError("precision", precision, " or ".join(map(repr, PRECISIONS)))
 
 
 def history_rows(n_terms: int) -> int:

@@ -31,7 +31,7 @@ import numpy as np
 
 from batball.contact.segments import SegmentContact
 from batball.contact.shell_contact import nodal_areas
-from batball.elements.hex8_block import PRECISIONS
+from batball.elements.hex8_block import check_precision
 from batball.elements.shell_bt import initial_force_state
 from batball.elements.shell_bt_section import HG_THICKNESS, LayeredSection, layered_section
 from batball.elements.shell_explicit import (
@@ -134,8 +134,7 @@ class BbsSetup:
             raise SpecError("ball_divisions", self.ball_divisions, "an integer 2..40 (12 = seed)")
         if not 8 <= self.circumferential <= 256:
             raise SpecError("circumferential", self.circumferential, "an integer 8..256")
-        if self.precision not in PRECISIONS:
-            raise SpecError("precision", self.precision, " or ".join(map(repr, PRECISIONS)))
+        check_precision(self.precision)
         if not 0.01 * IN <= self.axial_size <= 2.0 * IN:
             raise SpecError("axial_size", f"{self.axial_size / IN:.4g} in", "0.01 in .. 2 in")
         if not 0.0 < self.pivot_band <= 3.0 * IN:

@@ -19,7 +19,7 @@ from batball.contact.rigid import (
     nodal_stiffness,
     segment_stiffness,
 )
-from batball.elements.hex8_block import PRECISIONS
+from batball.elements.hex8_block import check_precision
 from batball.errors import SimulationError, SpecError
 from batball.lab.measures import ImpactMeasures, measure_impact
 from batball.materials.foam import FoamTable
@@ -99,8 +99,7 @@ class ImpactSetup:
             raise SpecError("speed", f"{self.speed / MPH:.4g} mph", "0 mph < speed <= 223 mph")
         if not 2 <= self.divisions <= 40:
             raise SpecError("divisions", self.divisions, "an integer 2..40 (12 = seed mesh)")
-        if self.precision not in PRECISIONS:
-            raise SpecError("precision", self.precision, " or ".join(map(repr, PRECISIONS)))
+        check_precision(self.precision)
 
 
 @dataclass(frozen=True)

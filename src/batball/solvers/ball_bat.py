@@ -33,7 +33,7 @@ import numpy as np
 
 from batball.contact.segments import SegmentContact
 from batball.elements.hex8 import compute_hex8_forces
-from batball.elements.hex8_block import PRECISIONS, constants_terms, pack_history
+from batball.elements.hex8_block import PRECISIONS, check_precision, constants_terms, pack_history
 from batball.elements.hex8_foam import N_FOAM_HISTORY, compute_foam_forces
 from batball.elements.shell_bt import (
     HOURGLASS_RATIO,
@@ -44,7 +44,7 @@ from batball.elements.shell_bt import (
     sum_slots,
 )
 from batball.elements.shell_bt_section import LayeredSection
-from batball.errors import SimulationError, SpecError
+from batball.errors import SimulationError
 from batball.materials.foam import FoamTable
 from batball.numerics import FASTMATH
 
@@ -142,8 +142,7 @@ class CoupledControls:
     precision: str = "double"
 
     def __post_init__(self) -> None:
-        if self.precision not in PRECISIONS:
-            raise SpecError("precision", self.precision, " or ".join(map(repr, PRECISIONS)))
+        check_precision(self.precision)
 
 
 #: Time constant of the contact-force average that picks the peak-force picture [s].
@@ -194,19 +193,6 @@ def take_slot_forces(nodal_forces: np.ndarray, forces: np.ndarray) -> None:
                 total += nodal_forces[slot, n, i]
                 nodal_forces[slot, n, i] = 0.0
             forces[n, i] = total
-
-
-@nb.njit(cache=True, fastmath=FASTMATH)
-def gather_cell_forces(cell_forces: np.ndarray, cells: np.ndarray, forces: np.ndarray) -> None:
-    """forces[cells[c, a]] = sum of cell_forces[c, a] (serial: no race); (n_cells, k, m) into
-    (n_points, >= m), the first m columns overwritten."""
-    m = cell_forces.shape[2]
-    forces[:, :m] = 0.0
-    for c in range(cells.shape[0]):
-        for a in range(cells.shape[1]):
-            node = cells[c, a]
-            for k in range(m):
-                forces[node, k] += cell_forces[c, a, k]
 
 
 @dataclass

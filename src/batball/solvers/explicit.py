@@ -22,7 +22,7 @@ import numpy as np
 
 from batball.contact.rigid import N_TARGET_PARAMS, RigidCylinder, RigidPlane
 from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces
-from batball.elements.hex8_block import PRECISIONS, constants_terms, pack_history
+from batball.elements.hex8_block import PRECISIONS, check_precision, constants_terms, pack_history
 from batball.elements.hex8_foam import N_FOAM_HISTORY, foam_element_forces
 from batball.errors import SimulationError, SpecError
 from batball.materials.foam import FoamTable
@@ -104,8 +104,7 @@ class ExplicitControls:
     precision: str = "double"
 
     def __post_init__(self) -> None:
-        if self.precision not in PRECISIONS:
-            raise SpecError("precision", self.precision, " or ".join(map(repr, PRECISIONS)))
+        check_precision(self.precision)
         if not self.end_time > 0:
             raise SpecError("end_time", self.end_time, "a positive time")
         if not 0 < self.time_step_scale <= 1:
