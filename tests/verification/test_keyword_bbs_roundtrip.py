@@ -7,9 +7,14 @@ pivot band one ring (0.5 in): about 2 s a run after compilation.
 Tolerances. Long format (20-column fields, shortest repr) keeps every double; the model read
 back differs from the direct one by unit-conversion round-off (1e-16 relative), and the run by
 5e-14 (measured): 1e-9. Standard format keeps 5 to 6 significant digits of a 10-column real
-(the ball's moduli and density, the laminae), rounding each by up to 5e-6: measured, the
-rebound differs by 3.8e-6 of the inbound speed, the peak force by 1.0e-6, BBCOR by 4.5e-7:
-2e-5 on e_A and BBCOR (absolute), 1e-5 on the peak force, one step on the contact time.
+(the ball's moduli and density, the laminae), rounding each by up to 5e-6. The coarse run is
+not smooth at that level: a node of the 189-hex ball touches the bat one step sooner or later.
+Measured on the direct run, 14 changes of the ball's size by -5e-6 .. +5e-6 moved e_A by up to
+7.1e-6, BBCOR by up to 1.1e-5 and the peak force by up to 1.25e-4 (jumps, where one input's
+rounding can move it by 1e-7 or 1e-4), while changing each modulus, density and lamina constant
+alone by 5e-6 moved them smoothly by at most 1.8e-6: 2e-5 on e_A and BBCOR (absolute), 5e-4
+on the peak force (two such jumps with margin, as some 20 inputs are rounded), one step on the
+contact time.
 
 The single-wall bat (the default bat without its insert) is the run that is compared: with the
 insert, the pre-stressed fit is ill-conditioned at round-off level in batball's own direct run
@@ -65,7 +70,8 @@ def test_single_wall_bbs_deck_runs_as_the_direct_bbs_test(
     assert s["rebound_mph"] * MPH == pytest.approx(direct.rebound_speed,
                                                    abs=tol * direct.inbound_speed)  # fmt: skip
     assert s["bbcor"] == pytest.approx(direct.bbcor, abs=tol)
-    assert s["peak_force_lbf"] * LBF == pytest.approx(direct.peak_force, rel=min(tol, 1e-5))
+    peak_tol = 1e-9 if long else 5e-4
+    assert s["peak_force_lbf"] * LBF == pytest.approx(direct.peak_force, rel=peak_tol)
     step = s["end_time_ms"] * 1e-3 / s["n_steps"]
     assert abs(s["contact_time_ms"] * 1e-3 - direct.contact_time) <= 1.5 * step
     assert s["pivot_from_knob_in"] == pytest.approx(6.0, abs=1e-12)
