@@ -21,6 +21,10 @@ physics.md section 6.6.
   only d, so a candidate that cannot beat the deepest so far is never projected, and a
   projection whose first Newton step lands plainly off the quad stops there (the contact cost
   of the full-size BBS run was dominated by projections of candidates that were then dropped).
+* Smoothing (optional, the insert-barrel pair): the push is along the master's nodal normals
+  interpolated at the contact point; the penetration is still the segment's. The segment's
+  share is put where the line through the slave along that normal meets the segment, so the
+  pair still has no moment.
 * Force: f = k p on the slave node, -f N_a(xi, eta) on the segment's four nodes (equal and
   opposite, so the pair conserves momentum; the weights are not clipped at the edge tolerance,
   so sum N_a x_a is the projected point and the pair, acting along n, has no moment: angular
@@ -171,6 +175,26 @@ def segment_planes(points: np.ndarray, segments: np.ndarray, active: np.ndarray,
         planes[s, 3], planes[s, 4], planes[s, 5] = n0 / norm, n1 / norm, n2 / norm
 
 
+@nb.njit(cache=True, fastmath=FASTMATH)
+def nodal_normals(segments: np.ndarray, nodes: np.ndarray, planes: np.ndarray,
+                  normals: np.ndarray) -> None:  # fmt: skip
+    """Unit normal at each of ``nodes`` (the distinct nodes of ``segments``), the normalised sum
+    of the normals of its segments (``planes`` of every segment), into ``normals`` (n_points,
+    3). The segments must be oriented alike (a shell mesh's cells are)."""
+    for n in nodes:
+        normals[n, 0] = 0.0
+        normals[n, 1] = 0.0
+        normals[n, 2] = 0.0
+    for s in range(segments.shape[0]):
+        for a in range(4):
+            for k in range(3):
+                normals[segments[s, a], k] += planes[s, 3 + k]
+    for n in nodes:
+        norm = np.sqrt(normals[n, 0] ** 2 + normals[n, 1] ** 2 + normals[n, 2] ** 2)
+        for k in range(3):
+            normals[n, k] /= norm
+
+
 #: |xi| or |eta| after the first Newton step beyond which a node is plainly off the segment
 #: (that step is exact on a parallelogram), so the last two steps are skipped.
 PLAINLY_OFF = 3.0
@@ -213,14 +237,32 @@ def segment_coordinates(
     return xi, eta
 
 
+@nb.njit(inline="always", fastmath=FASTMATH)
+def smoothed_normal(node_normals: np.ndarray, corners: np.ndarray, xi: float, eta: float,
+                    facet: np.ndarray) -> np.ndarray:  # fmt: skip
+    """The nodal normals of a segment's ``corners`` interpolated at (xi, eta), normalised and
+    turned to the side of ``facet`` (the segment's normal, signed towards the slave)."""
+    w = (0.25 * (1 - xi) * (1 - eta), 0.25 * (1 + xi) * (1 - eta),
+         0.25 * (1 + xi) * (1 + eta), 0.25 * (1 - xi) * (1 + eta))  # fmt: skip
+    out = np.zeros(3)
+    for a in range(4):
+        for k in range(3):
+            out[k] += w[a] * node_normals[corners[a], k]
+    norm = np.sqrt(out[0] ** 2 + out[1] ** 2 + out[2] ** 2)
+    side = 1.0 if out[0] * facet[0] + out[1] * facet[1] + out[2] * facet[2] >= 0.0 else -1.0
+    for k in range(3):
+        out[k] *= side / norm
+    return out
+
+
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
 def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thickness: np.ndarray,
                          slave_stiffness: np.ndarray, segments: np.ndarray,
                          segment_thickness: np.ndarray, two_sided: bool, depth: float,
                          gap_offset: np.ndarray, candidates: np.ndarray,
-                         n_candidates: np.ndarray, planes: np.ndarray, slave_force: np.ndarray,
-                         contact_segment: np.ndarray, weights: np.ndarray,
-                         penetration: np.ndarray) -> None:  # fmt: skip
+                         n_candidates: np.ndarray, planes: np.ndarray, node_normals: np.ndarray,
+                         slave_force: np.ndarray, contact_segment: np.ndarray,
+                         weights: np.ndarray, penetration: np.ndarray) -> None:  # fmt: skip
     """Penalty force on each slave node from its deepest-penetrated candidate (module docs).
 
     Args:
@@ -232,6 +274,9 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
         candidates, n_candidates: from :func:`search_candidates`.
         planes: (n_segments, 6) centroid and unit normal of every candidate segment
             (:func:`segment_planes`).
+        node_normals: (n_points, 3) the master's nodal normals (:func:`nodal_normals`) to push
+            along, interpolated at the contact point, instead of the segment's normal; (0, 3)
+            for the segment's normal.
         slave_force: (n_slaves, 3) out [N]; contact_segment: (n_slaves,) out, -1 where free;
             weights: (n_slaves, 4) out, N_a at the contact point; penetration: (n_slaves,) out [m].
     """
@@ -239,7 +284,7 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
         corners = np.empty((4, 3))
         scratch = np.empty((3, 3))
         x = points[slave_nodes[n]]
-        best, best_p, bxi, beta = -1, 0.0, 0.0, 0.0
+        best, best_p, bxi, beta, bd = -1, 0.0, 0.0, 0.0, 0.0
         bn = np.zeros(3)
         for c in range(n_candidates[n]):
             s = candidates[n, c]
@@ -261,8 +306,18 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
             xi, eta = segment_coordinates(x, corners, d, n0, n1, n2, scratch)
             if abs(xi) > 1.0 + EDGE_TOLERANCE or abs(eta) > 1.0 + EDGE_TOLERANCE:
                 continue
-            best, best_p, bxi, beta = s, p, xi, eta
+            best, best_p, bxi, beta, bd = s, p, xi, eta, sign * d
             bn[0], bn[1], bn[2] = sign * n0, sign * n1, sign * n2
+        if best >= 0 and node_normals.shape[0] > 0:
+            # push along the smoothed normal, and put the segment's share on the point where
+            # that line meets the segment (x - t n_s), so that the pair has no moment
+            smooth = smoothed_normal(node_normals, segments[best], bxi, beta, bn)
+            t = bd / (smooth[0] * bn[0] + smooth[1] * bn[1] + smooth[2] * bn[2])
+            for a in range(4):
+                corners[a] = points[segments[best, a]]
+            bxi, beta = segment_coordinates(x, corners, t, smooth[0], smooth[1], smooth[2],
+                                            scratch)  # fmt: skip
+            bn = smooth
         contact_segment[n] = best
         penetration[n] = best_p
         f = slave_stiffness[n] * best_p
@@ -308,6 +363,10 @@ class SegmentContact:
         two_sided: shells (True) or solid faces (False); depth: see
             :func:`slave_penalty_forces` [m].
         margin: search margin [m]; gap_offset: (n_slaves,) initial overlap ignored [m].
+        smooth: push along the master's nodal normals (each the mean of its segments' normals)
+            interpolated at the contact point, not along the segment's own normal: the push then
+            turns smoothly where a node crosses from one segment to the next (segments oriented
+            alike; :func:`nodal_normals`).
     """
 
     name: str
@@ -320,6 +379,7 @@ class SegmentContact:
     depth: float
     margin: float
     gap_offset: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    smooth: bool = False
     candidates: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), dtype=np.int64))
     n_candidates: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
@@ -333,6 +393,8 @@ class SegmentContact:
         self.penetration = np.zeros(n)
         self.planes = np.zeros((len(self.segments), 6))
         self.active_segments = np.zeros(0, dtype=np.int64)
+        self.master_nodes = np.unique(self.segments)
+        self.node_normals = np.zeros((0, 3))
 
     def search(self, points: np.ndarray) -> None:
         """Refresh every slave's candidate segments (bucket search)."""
@@ -347,12 +409,19 @@ class SegmentContact:
 
     def add_forces(self, points: np.ndarray, forces: np.ndarray) -> int:
         """Add this contact's forces to ``forces`` (n_points, 3) [N]; returns slaves touching."""
-        segment_planes(points, self.segments, self.active_segments, self.planes)
+        if self.smooth:
+            segment_planes(points, self.segments, np.arange(len(self.segments)), self.planes)
+            if self.node_normals.shape[0] != points.shape[0]:
+                self.node_normals = np.zeros_like(points)
+            nodal_normals(self.segments, self.master_nodes, self.planes, self.node_normals)
+        else:
+            segment_planes(points, self.segments, self.active_segments, self.planes)
         with threads_for_work(int(self.n_candidates.sum()), parallel_min_work=PARALLEL_MIN_WORK):
             slave_penalty_forces(points, self.slave_nodes, self.slave_thickness,
                                  self.slave_stiffness, self.segments, self.segment_thickness,
                                  self.two_sided, self.depth, self.gap_offset, self.candidates,
-                                 self.n_candidates, self.planes, self.slave_force,
+                                 self.n_candidates, self.planes, self.node_normals,
+                                 self.slave_force,
                                  self.contact_segment, self.weights, self.penetration)  # fmt: skip
         return int(scatter_pair_forces(self.slave_nodes, self.segments, self.slave_force,
                                        self.contact_segment, self.weights, forces))  # fmt: skip

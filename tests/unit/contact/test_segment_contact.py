@@ -104,3 +104,54 @@ def test_initial_overlap_is_ignored_when_offset() -> None:
     points[slave[0], 2] -= 0.0001  # 0.1 mm further in: force from there on
     pair.add_forces(points, forces)
     assert forces[slave[0], 2] == pytest.approx(1e6 * 0.0001, rel=1e-6)
+
+
+def tube(radius: float, n_around: int, rings: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A polygonal tube about the x axis: ``rings`` (x positions), node j of a ring at angle
+    2 pi j / n_around; cells oriented alike (normals outward)."""
+    phi = 2.0 * np.pi * np.arange(n_around) / n_around
+    points = np.array([[x, radius * np.cos(p), radius * np.sin(p)] for x in rings for p in phi])
+    ids = np.arange(points.shape[0]).reshape(len(rings), n_around)
+    nxt = np.roll(ids, -1, axis=1)
+    cells = np.column_stack([ids[:-1].ravel(), ids[1:].ravel(), nxt[1:].ravel(),
+                             nxt[:-1].ravel()])  # fmt: skip
+    return points, cells
+
+
+@pytest.mark.parametrize("smooth", [False, True])
+def test_smoothed_normals_remove_the_flip_at_a_facet_corner(smooth: bool) -> None:
+    """A node just inside a 16-sided tube, radially under one of its nodes (the corner of four
+    facets), nudged 1e-9 rad either way: the facet it takes changes, and so does a facet
+    normal's direction, by 2 pi / 16 (the two facets' normals, at -+pi / 16 from the node's
+    angle). With smoothed normals (each node's the mean of its facets' normals, radial by
+    symmetry) the push is the nodal normals interpolated at the node's projection on the facet,
+    which lies s = 0.8 mm / (2 R) of the chord from the corner: it turns by about s sin(2 pi /
+    16) rad, 0.29 deg either side, instead of 11.25 (a jump 38 times smaller, not none: the
+    projection is along the facet's normal, not the smoothed one)."""
+    radius, n_around = 0.03, 16
+    sheet, cells = tube(radius, n_around, np.array([0.0, 0.01, 0.02]))
+    directions = []
+    for nudge in (-1e-9, 1e-9):
+        node = (radius - 0.0008) * np.array([0.0, np.cos(nudge), np.sin(nudge)])
+        node[0] = 0.01
+        points = np.vstack([sheet, node])
+        slave = np.array([len(sheet)])
+        pair = SegmentContact("tube", slave, np.zeros(1), np.full(1, 1e6), cells,
+                              np.full(len(cells), 0.001), two_sided=True, depth=0.0,
+                              margin=0.001, smooth=smooth)  # fmt: skip
+        pair.search(points)
+        forces = np.zeros_like(points)
+        assert pair.add_forces(points, forces) == 1
+        assert forces.sum(axis=0) == pytest.approx(np.zeros(3), abs=1e-12)  # action = reaction
+        moment = np.cross(points, forces).sum(axis=0)  # the pair acts along one line
+        assert moment == pytest.approx(np.zeros(3), abs=1e-9 * np.abs(forces).max() * radius)
+        directions.append(forces[slave[0]] / np.linalg.norm(forces[slave[0]]))
+    tilt = np.degrees(np.arctan2(np.array(directions)[:, 2], -np.array(directions)[:, 1]))
+    if smooth:
+        theta, s_chord = 2.0 * np.pi / n_around, 0.0008 / (2.0 * radius)
+        expected = np.degrees(np.arctan2(s_chord * np.sin(theta),
+                                         1.0 - s_chord + s_chord * np.cos(theta)))  # fmt: skip
+        assert tilt == pytest.approx([expected, -expected], rel=1e-6)
+    else:
+        assert sorted(np.abs(tilt)) == pytest.approx([180.0 / n_around] * 2, rel=1e-6)
+        assert tilt[0] * tilt[1] < 0.0  # the push turns over as the node crosses the corner
