@@ -318,7 +318,13 @@ def ball_bat_contacts(
 def insert_barrel_contact(spec: BatSpec, bat: BatPart, mesh: ShellMesh,
                           setup: BbsSetup) -> SegmentContact:  # fmt: skip
     """The insert's nodes on the barrel's shells beside it, the initial overlap (the interference
-    the pre-stress would remove) ignored; stiffness SLSFAC E A / diagonal (module docs)."""
+    the pre-stress would remove) ignored; stiffness SLSFAC E A / diagonal (module docs).
+
+    The push is along the barrel's smoothed (nodal) normals: the insert's nodes sit radially
+    under the barrel's nodes, on the corners of four facets whose normals differ by the
+    division angle, and with the facets' own normals the push turned over as a node crossed a
+    corner; the relaxation then kept ringing and overshot the fit (docs/bbs.md, "Pre-stress
+    length")."""
     assert spec.insert is not None
     sec = bat.section
     insert = mesh.point_sets["insert"]
@@ -344,6 +350,7 @@ def insert_barrel_contact(spec: BatSpec, bat: BatPart, mesh: ShellMesh,
         two_sided=True,
         depth=0.0,
         margin=0.05 * IN,
+        smooth=True,
     )
     pair.gap_offset = pair.initial_overlap(mesh.points)
     return pair
