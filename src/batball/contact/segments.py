@@ -239,20 +239,19 @@ def segment_coordinates(
 
 @nb.njit(inline="always", fastmath=FASTMATH)
 def smoothed_normal(node_normals: np.ndarray, corners: np.ndarray, xi: float, eta: float,
-                    facet: np.ndarray) -> np.ndarray:  # fmt: skip
+                    facet: np.ndarray) -> tuple[float, float, float]:  # fmt: skip
     """The nodal normals of a segment's ``corners`` interpolated at (xi, eta), normalised and
     turned to the side of ``facet`` (the segment's normal, signed towards the slave)."""
     w = (0.25 * (1 - xi) * (1 - eta), 0.25 * (1 + xi) * (1 - eta),
          0.25 * (1 + xi) * (1 + eta), 0.25 * (1 - xi) * (1 + eta))  # fmt: skip
-    out = np.zeros(3)
+    o0, o1, o2 = 0.0, 0.0, 0.0
     for a in range(4):
-        for k in range(3):
-            out[k] += w[a] * node_normals[corners[a], k]
-    norm = np.sqrt(out[0] ** 2 + out[1] ** 2 + out[2] ** 2)
-    side = 1.0 if out[0] * facet[0] + out[1] * facet[1] + out[2] * facet[2] >= 0.0 else -1.0
-    for k in range(3):
-        out[k] *= side / norm
-    return out
+        o0 += w[a] * node_normals[corners[a], 0]
+        o1 += w[a] * node_normals[corners[a], 1]
+        o2 += w[a] * node_normals[corners[a], 2]
+    norm = np.sqrt(o0 * o0 + o1 * o1 + o2 * o2)
+    side = 1.0 if o0 * facet[0] + o1 * facet[1] + o2 * facet[2] >= 0.0 else -1.0
+    return o0 * (side / norm), o1 * (side / norm), o2 * (side / norm)
 
 
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
@@ -311,13 +310,12 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
         if best >= 0 and node_normals.shape[0] > 0:
             # push along the smoothed normal, and put the segment's share on the point where
             # that line meets the segment (x - t n_s), so that the pair has no moment
-            smooth = smoothed_normal(node_normals, segments[best], bxi, beta, bn)
-            t = bd / (smooth[0] * bn[0] + smooth[1] * bn[1] + smooth[2] * bn[2])
+            s0, s1, s2 = smoothed_normal(node_normals, segments[best], bxi, beta, bn)
+            t = bd / (s0 * bn[0] + s1 * bn[1] + s2 * bn[2])
             for a in range(4):
                 corners[a] = points[segments[best, a]]
-            bxi, beta = segment_coordinates(x, corners, t, smooth[0], smooth[1], smooth[2],
-                                            scratch)  # fmt: skip
-            bn = smooth
+            bxi, beta = segment_coordinates(x, corners, t, s0, s1, s2, scratch)
+            bn[0], bn[1], bn[2] = s0, s1, s2
         contact_segment[n] = best
         penetration[n] = best_p
         f = slave_stiffness[n] * best_p
@@ -393,6 +391,7 @@ class SegmentContact:
         self.penetration = np.zeros(n)
         self.planes = np.zeros((len(self.segments), 6))
         self.active_segments = np.zeros(0, dtype=np.int64)
+        self.all_segments = np.arange(len(self.segments))
         self.master_nodes = np.unique(self.segments)
         self.node_normals = np.zeros((0, 3))
 
@@ -410,7 +409,7 @@ class SegmentContact:
     def add_forces(self, points: np.ndarray, forces: np.ndarray) -> int:
         """Add this contact's forces to ``forces`` (n_points, 3) [N]; returns slaves touching."""
         if self.smooth:
-            segment_planes(points, self.segments, np.arange(len(self.segments)), self.planes)
+            segment_planes(points, self.segments, self.all_segments, self.planes)
             if self.node_normals.shape[0] != points.shape[0]:
                 self.node_normals = np.zeros_like(points)
             nodal_normals(self.segments, self.master_nodes, self.planes, self.node_normals)

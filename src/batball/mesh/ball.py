@@ -96,7 +96,7 @@ def _number_nodes(
     The solver splits the cells into contiguous slots, one per thread; numbered by first use, a
     slot's nodes are mostly one contiguous run of ids, which the same thread updates, so a node's
     data stays in the cache of the core that uses it. The surface nodes (the contact candidates,
-    which one thread searches) stay one contiguous run. Measured: about 10 % off the full-size
+    which one thread searches) stay one contiguous run. Measured: about 12 % off the full-size
     CCOR run on 2 threads (benchmarks/RESULTS.md)."""
     _, first = np.unique(cells.ravel(), return_index=True)
     by_use = np.argsort(first, kind="stable")
