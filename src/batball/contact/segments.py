@@ -238,12 +238,18 @@ def segment_coordinates(
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
+def bilinear_weights(xi: float, eta: float) -> tuple[float, float, float, float]:
+    """The quad's shape functions N_1..N_4 at (xi, eta)."""
+    return (0.25 * (1 - xi) * (1 - eta), 0.25 * (1 + xi) * (1 - eta),
+            0.25 * (1 + xi) * (1 + eta), 0.25 * (1 - xi) * (1 + eta))  # fmt: skip
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
 def smoothed_normal(node_normals: np.ndarray, corners: np.ndarray, xi: float, eta: float,
                     facet: np.ndarray) -> tuple[float, float, float]:  # fmt: skip
     """The nodal normals of a segment's ``corners`` interpolated at (xi, eta), normalised and
     turned to the side of ``facet`` (the segment's normal, signed towards the slave)."""
-    w = (0.25 * (1 - xi) * (1 - eta), 0.25 * (1 + xi) * (1 - eta),
-         0.25 * (1 + xi) * (1 + eta), 0.25 * (1 - xi) * (1 + eta))  # fmt: skip
+    w = bilinear_weights(xi, eta)
     o0, o1, o2 = 0.0, 0.0, 0.0
     for a in range(4):
         o0 += w[a] * node_normals[corners[a], 0]
@@ -322,10 +328,9 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
         for k in range(3):
             slave_force[n, k] = f * bn[k] if best >= 0 else 0.0
         xi, eta = bxi, beta  # unclipped: sum N_a x_a is the contact point, so no spurious torque
-        weights[n, 0] = 0.25 * (1 - xi) * (1 - eta)
-        weights[n, 1] = 0.25 * (1 + xi) * (1 - eta)
-        weights[n, 2] = 0.25 * (1 + xi) * (1 + eta)
-        weights[n, 3] = 0.25 * (1 - xi) * (1 + eta)
+        w = bilinear_weights(xi, eta)
+        for a in range(4):
+            weights[n, a] = w[a]
 
 
 @nb.njit(cache=True)
