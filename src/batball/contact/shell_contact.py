@@ -29,6 +29,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.sparse as sp
 
+from batball.contact.columns import column_pairs
 from batball.mesh.shell import quad_areas
 
 
@@ -125,12 +126,7 @@ def coaxial_ring_gaps(
         One gap per slave node; g0 < 0 where the two contact surfaces overlap.
     """
     n_around = master_rings.shape[1]
-    column = np.rint(np.arctan2(points[slave_nodes, 2], points[slave_nodes, 1])
-                     / (2.0 * np.pi) * n_around).astype(np.int64) % n_around  # fmt: skip
-    ring_x = points[master_rings[:, 0], 0]
-    x = points[slave_nodes, 0]
-    ring = np.clip(np.searchsorted(ring_x, x, side="right") - 1, 0, ring_x.size - 2)
-    weight_b = np.clip((x - ring_x[ring]) / (ring_x[ring + 1] - ring_x[ring]), 0.0, 1.0)
+    column, ring, weight_b = column_pairs(points, slave_nodes, master_rings)
     master_a, master_b = master_rings[ring, column], master_rings[ring + 1, column]
     phi = 2.0 * np.pi * column / n_around
     normals = np.stack([np.zeros_like(phi), np.cos(phi), np.sin(phi)], axis=1)

@@ -49,7 +49,12 @@ from batball.elements.shell_stiffness import (
 )
 from batball.errors import SpecError
 from batball.lab.modal import bat_section
-from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL, make_bat_mesh
+from batball.mesh.bat import (
+    DEFAULT_AXIAL_SIZE,
+    DEFAULT_CIRCUMFERENTIAL,
+    make_bat_mesh,
+    outer_rings,
+)
 from batball.mesh.shell import ShellMesh
 from batball.solvers.static_contact import (
     CondensedContact,
@@ -176,8 +181,7 @@ def build_barrel_model(
                         "a multiple of 8 (platens at 0, 45, 90, -45 deg meet nodes)")  # fmt: skip
     mesh = make_bat_mesh(spec, circumferential=circumferential, axial_size=axial_size)
     section = bat_section(spec, mesh)
-    n_outer = mesh.point_sets["outer"].size
-    outer_rings = np.arange(n_outer).reshape(-1, circumferential)
+    rings = outer_rings(mesh)
     x, radius = mesh.points[:, 0], np.hypot(mesh.points[:, 1], mesh.points[:, 2])
     outer_offsets = np.asarray(spec.outer_radius(x)) - radius
     bore_offsets = radius - (np.asarray(spec.outer_radius(x)) - wall_at(spec, x))
@@ -185,12 +189,12 @@ def build_barrel_model(
     k_area = contact_stiffness_per_area(spec, mesh, section, penalty_factor)
     insert_wall = spec.laminate(spec.insert.layup).thickness
     interference = coaxial_ring_gaps(
-        mesh.points, slave_nodes=insert, master_rings=outer_rings,
+        mesh.points, slave_nodes=insert, master_rings=rings,
         slave_offsets=np.full(insert.size, 0.5 * insert_wall), master_offsets=bore_offsets,
         slave_areas=nodal_areas(mesh.points, mesh.cells)[insert], stiffness_per_area=k_area,
     )  # fmt: skip
     stiffness = assemble_shell_stiffness(mesh, section)
-    return BarrelModel(spec, mesh, section, stiffness, interference, outer_rings, outer_offsets,
+    return BarrelModel(spec, mesh, section, stiffness, interference, rings, outer_offsets,
                        k_area)  # fmt: skip
 
 

@@ -72,6 +72,12 @@ def make_bat_mesh(
     return ShellMesh(points=points, cells=cells, point_sets=point_sets, cell_sets=cell_sets)
 
 
+def outer_rings(mesh: ShellMesh) -> np.ndarray:
+    """The outer surface's nodes ring by ring, (n_rings, circumferential): x increasing along
+    axis 0, angle 2 pi j / circumferential along axis 1 (:func:`make_bat_mesh`'s numbering)."""
+    return mesh.point_sets["outer"].reshape(-1, mesh.point_sets["knob_end"].size)
+
+
 def part_cell_sets(spec: BatSpec, x: np.ndarray, *, circumferential: int) -> dict[str, np.ndarray]:
     """Cell indices of each part on the outer surface (rings ``x``, ``circumferential`` quads each).
 

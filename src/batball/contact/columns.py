@@ -1,0 +1,242 @@
+"""Penalty contact of an inner shell of revolution's nodes against the outer shell's columns of
+nodes: the explicit form of the insert-barrel gaps of :mod:`batball.contact.shell_contact`.
+
+A double-wall bat's insert and barrel are revolved with the same angles, so each insert node
+(slave) lies radially under one column of barrel nodes (master): the barrel's nodes at its angle,
+ring after ring. The node touches the polyline through that column:
+
+* Pairing: the column is fixed (the node's angle in the undeformed mesh,
+  :func:`column_pairs`); along it the master point is the closest point of the segment between
+  two neighbouring rings, x_m = (1 - s) x_a + s x_b, the segment re-found every cycle by
+  walking from the last one (a node slides axially over the rings freely).
+* Gap: along the master's normal at x_m, n = c x t / |c x t| with t = x_b - x_a (along the
+  column) and c the chord between the neighbouring columns (j + 1 minus j - 1), interpolated
+  between the two rings like x_m (on a circle that chord is the tangent at the node, so on a
+  cylinder or cone n is the exact normal): g = (x_m - x) . n and the penetration
+  p = t_s + t_m - g - offset (t the contact thicknesses, half the walls, the master's
+  interpolated like x_m).
+* Forces: the gradient of the penalty energy k p^2 / 2 over all the nodes that p depends on:
+  -k p n on the slave and (1 - s, s) of +k p n on a and b, plus the small forces of the normal's
+  turning (on a, b and the four neighbouring-column nodes) and of the closest point's motion
+  along the column. The pair is then conservative: it does no net work over a closed cycle,
+  and, p being unchanged by a rigid motion, it has no net force or moment (momentum and
+  angular momentum about the pivot are kept). The unit tests check the forces against finite
+  differences of the energy.
+* Why this and not the alternatives tried (docs/bbs.md, "Pre-stress length"): against the
+  barrel's facets (:class:`batball.contact.segments.SegmentContact`) the insert's nodes sit
+  under the facets' corners, where the penetration has a kink, and the full-size bat's
+  pre-stress grew a local mode instead of settling, with the facets' normals or smoothed ones.
+  A central spring between x and x_m (push along x_m - x) is conservative too, but it is a
+  strut in compression: a sideways slip delta tilts the push by delta / L with the slip's sign,
+  a negative stiffness -k p / L along the surface, and the frictionless insert turned away
+  about the bat's axis (the relaxation's kinetic energy grew to 0.8 J). Pushing along the
+  master's normal n (-k p n on the slave, (1 - s, s) of k p n on the master points, no turning
+  forces) has no such stiffness but is not conservative (n follows the neighbours, which get
+  no reaction): the full mesh's relaxation then stalled at 7.5e-3 J (kinetic-energy ratio 0.7)
+  where the gradient form ends at 5e-5 J (ratio 0.008).
+"""
+
+from __future__ import annotations
+
+from dataclasses import InitVar, dataclass, field
+
+import numba as nb
+import numpy as np
+
+from batball.numerics import FASTMATH
+
+
+def column_pairs(
+    points: np.ndarray, slave_nodes: np.ndarray, master_rings: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each slave's master column (its angle's nearest), the ring below it along x and the
+    weight of the ring above (the slave's x between the two, clipped to [0, 1]).
+
+    Args:
+        points: all nodes, (n_points, 3), m; the shells revolved about the x axis.
+        slave_nodes: (n_slaves,).
+        master_rings: (n_rings, n_around) master nodes ring by ring, x increasing along axis 0,
+            angles 2 pi j / n_around along axis 1.
+
+    Returns:
+        column (n_slaves,), ring (n_slaves,) in [0, n_rings - 2], weight_b (n_slaves,).
+    """
+    n_around = master_rings.shape[1]
+    column = np.rint(np.arctan2(points[slave_nodes, 2], points[slave_nodes, 1])
+                     / (2.0 * np.pi) * n_around).astype(np.int64) % n_around  # fmt: skip
+    ring_x = points[master_rings[:, 0], 0]
+    x = points[slave_nodes, 0]
+    ring = np.clip(np.searchsorted(ring_x, x, side="right") - 1, 0, ring_x.size - 2)
+    weight_b = np.clip((x - ring_x[ring]) / (ring_x[ring + 1] - ring_x[ring]), 0.0, 1.0)
+    return column, ring, weight_b
+
+
+#: Segments a slave may walk along its column in one cycle.
+MAX_WALK = 2
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def cross(u: np.ndarray, v: np.ndarray, out: np.ndarray) -> None:
+    """out = u x v (3,)."""
+    out[0] = u[1] * v[2] - u[2] * v[1]
+    out[1] = u[2] * v[0] - u[0] * v[2]
+    out[2] = u[0] * v[1] - u[1] * v[0]
+
+
+@nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
+def column_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray,
+                          slave_thickness: np.ndarray, slave_stiffness: np.ndarray,
+                          master_rings: np.ndarray, master_thickness: np.ndarray,
+                          column: np.ndarray, ring: np.ndarray, gap_offset: np.ndarray,
+                          weight_b: np.ndarray, slave_force: np.ndarray, tilt_force: np.ndarray,
+                          penetration: np.ndarray) -> None:  # fmt: skip
+    """Penalty forces of each slave's pair (module docs), written to the slave's own rows (no
+    data race): ``ring`` (in and out), ``weight_b`` s, ``slave_force`` -k p n (n_slaves, 3) [N],
+    ``tilt_force`` (n_slaves, 4, 3) [N]: k p dg/dt and k p dg/dc (the forces of the normal's
+    turning: + on b and - on a; + on the right column and - on the left, shared 1 - s, s),
+    then k p (dg/ds - dt_m/ds) ds/dx on the slave and ds/dx_b on b (a takes minus their sum:
+    the closest point's own motion), ``penetration`` p [m]. ``master_thickness`` is indexed by
+    node [m]."""
+    last, n_around = master_rings.shape[0] - 2, master_rings.shape[1]
+    for n in nb.prange(slave_nodes.shape[0]):
+        d, t, c = np.empty(3), np.empty(3), np.empty(3)
+        m, q, out = np.empty(3), np.empty(3), np.empty(3)
+        chord_a, chord_b = np.empty(3), np.empty(3)
+        x = points[slave_nodes[n]]
+        j, r, s = column[n], ring[n], 0.0
+        for _ in range(MAX_WALK + 1):
+            a, b = master_rings[r, j], master_rings[r + 1, j]
+            for k in range(3):
+                t[k] = points[b, k] - points[a, k]
+                d[k] = x[k] - points[a, k]
+            s = (d[0] * t[0] + d[1] * t[1] + d[2] * t[2]) / (
+                t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
+            if s < 0.0 and r > 0:
+                r -= 1
+            elif s > 1.0 and r < last:
+                r += 1
+            else:
+                break
+        a, b = master_rings[r, j], master_rings[r + 1, j]
+        inside = 0.0 < s < 1.0
+        s = min(max(s, 0.0), 1.0)
+        left, right = (j - 1) % n_around, (j + 1) % n_around
+        for k in range(3):
+            d[k] = (1.0 - s) * points[a, k] + s * points[b, k] - x[k]
+            t[k] = points[b, k] - points[a, k]
+            chord_a[k] = points[master_rings[r, right], k] - points[master_rings[r, left], k]
+            chord_b[k] = (points[master_rings[r + 1, right], k]
+                          - points[master_rings[r + 1, left], k])  # fmt: skip
+            c[k] = (1.0 - s) * chord_a[k] + s * chord_b[k]
+        cross(c, t, m)  # around x along: outward
+        size = np.sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
+        gap = (d[0] * m[0] + d[1] * m[1] + d[2] * m[2]) / size
+        reach = slave_thickness[n] + (1.0 - s) * master_thickness[a] + s * master_thickness[b]
+        p = max(reach - gap - gap_offset[n], 0.0)
+        ring[n], weight_b[n], penetration[n] = r, s, p
+        f = slave_stiffness[n] * p
+        for k in range(3):  # q = dg/dm: d's part across n, over |m|
+            q[k] = (d[k] - gap * m[k] / size) / size
+            slave_force[n, k] = -f * m[k] / size
+        cross(q, c, out)
+        for k in range(3):
+            tilt_force[n, 0, k] = f * out[k]
+        cross(t, q, out)
+        for k in range(3):
+            tilt_force[n, 1, k] = f * out[k]
+        # s moves with the nodes (the closest point): d(x_m)/ds = t is across n, but the
+        # chord and the master's thickness interpolate in s, so dp/ds = dt_m - (t x q).dc/ds
+        slide = 0.0
+        if inside:
+            slide = f * (out[0] * (chord_b[0] - chord_a[0]) + out[1] * (chord_b[1] - chord_a[1])
+                         + out[2] * (chord_b[2] - chord_a[2])
+                         - (master_thickness[b] - master_thickness[a]))  # fmt: skip
+        length2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2]
+        for k in range(3):  # ds/dx = t / |t|^2, ds/dx_b = (x - x_a - 2 s t) / |t|^2
+            tilt_force[n, 2, k] = slide * t[k] / length2
+            tilt_force[n, 3, k] = slide * (x[k] - points[a, k] - 2.0 * s * t[k]) / length2
+
+
+@nb.njit(cache=True)
+def scatter_column_forces(slave_nodes: np.ndarray, master_rings: np.ndarray, column: np.ndarray,
+                          ring: np.ndarray, weight_b: np.ndarray, slave_force: np.ndarray,
+                          tilt_force: np.ndarray, penetration: np.ndarray,
+                          forces: np.ndarray) -> int:  # fmt: skip
+    """Add each pair's forces on its slave and the seven master nodes to ``forces`` (n_points,
+    3) in one serial pass; returns the number of slaves in contact."""
+    touching = 0
+    n_around = master_rings.shape[1]
+    for n in range(slave_nodes.shape[0]):
+        if penetration[n] <= 0.0:
+            continue
+        touching += 1
+        r, j, s = ring[n], column[n], weight_b[n]
+        left, right = (j - 1) % n_around, (j + 1) % n_around
+        a, b = master_rings[r, j], master_rings[r + 1, j]
+        for k in range(3):
+            f, along, around = slave_force[n, k], tilt_force[n, 0, k], tilt_force[n, 1, k]
+            on_slave, on_b = tilt_force[n, 2, k], tilt_force[n, 3, k]
+            forces[slave_nodes[n], k] += f + on_slave
+            forces[a, k] += -(1.0 - s) * f - along - on_slave - on_b
+            forces[b, k] += -s * f + along + on_b
+            forces[master_rings[r, right], k] += (1.0 - s) * around
+            forces[master_rings[r, left], k] -= (1.0 - s) * around
+            forces[master_rings[r + 1, right], k] += s * around
+            forces[master_rings[r + 1, left], k] -= s * around
+    return touching
+
+
+@dataclass
+class ColumnContact:
+    """Inner shell's nodes (slaves) against the outer shell's node columns (module docs); the
+    same calls as :class:`batball.contact.segments.SegmentContact` in the coupled solver.
+
+    Attributes:
+        name: label for histories and messages.
+        slave_nodes: (n_slaves,); slave_thickness: (n_slaves,) [m]; slave_stiffness:
+            (n_slaves,) [N/m].
+        master_rings: (n_rings, n_around) the master's nodes ring by ring (x increasing, angle
+            2 pi j / n_around); master_thickness: (n_points,) contact thickness by node [m].
+        gap_offset: (n_slaves,) initial overlap ignored [m].
+        points: (n_points, 3) the undeformed nodes [m], which pair each slave with its column.
+    """
+
+    name: str
+    slave_nodes: np.ndarray
+    slave_thickness: np.ndarray
+    slave_stiffness: np.ndarray
+    master_rings: np.ndarray
+    master_thickness: np.ndarray
+    points: InitVar[np.ndarray]
+    gap_offset: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __post_init__(self, points: np.ndarray) -> None:
+        n = self.slave_nodes.size
+        if self.gap_offset.size != n:
+            self.gap_offset = np.zeros(n)
+        self.column, self.ring, self.weight_b = column_pairs(points, self.slave_nodes,
+                                                             self.master_rings)  # fmt: skip
+        self.slave_force = np.zeros((n, 3))
+        self.tilt_force = np.zeros((n, 4, 3))
+        self.penetration = np.zeros(n)
+
+    def search(self, points: np.ndarray) -> None:
+        """Nothing to search: each slave walks along its column in :meth:`add_forces`."""
+
+    def add_forces(self, points: np.ndarray, forces: np.ndarray) -> int:
+        """Add this contact's forces to ``forces`` (n_points, 3) [N]; returns slaves touching."""
+        column_penalty_forces(points, self.slave_nodes, self.slave_thickness,
+                              self.slave_stiffness, self.master_rings, self.master_thickness,
+                              self.column, self.ring, self.gap_offset, self.weight_b,
+                              self.slave_force, self.tilt_force, self.penetration)  # fmt: skip
+        return int(scatter_column_forces(self.slave_nodes, self.master_rings, self.column,
+                                         self.ring, self.weight_b, self.slave_force,
+                                         self.tilt_force, self.penetration, forces))  # fmt: skip
+
+    def initial_overlap(self, points: np.ndarray) -> np.ndarray:
+        """Each slave's penetration in ``points`` with no offset, (n_slaves,) [m]."""
+        saved = self.gap_offset
+        self.gap_offset = np.zeros_like(saved)
+        self.add_forces(points, np.zeros_like(points))
+        self.gap_offset = saved
+        return self.penetration.copy()
