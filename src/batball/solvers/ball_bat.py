@@ -4,9 +4,10 @@ One central-difference scheme for both bodies (physics.md section 6.1): lumped m
 stable step for both (the smaller of the hexes' and the shells' steps, times TSSFAC), the ball's
 internal forces from the one-point hex kernel (:func:`ball_internal_forces`, the only call into
 :mod:`batball.elements.hex8`), the bat's from the layered Belytschko-Tsay kernel, and penalty
-contact (:mod:`batball.contact.segments`) both ways between them and between the bat's insert
-and its barrel. The cycle reads as the named phases of the design: contact search (every
-``search_interval`` cycles), element forces, contact forces, accelerations, constraints, update.
+contact (:mod:`batball.contact.segments`) both ways between them, and between the bat's insert
+and its barrel (:mod:`batball.contact.columns`). The cycle reads as the named phases of the
+design: contact search (every ``search_interval`` cycles), element forces, contact forces,
+accelerations, constraints, update.
 
 The pivot (ASTM F2219; the seed's aluminium pivot block): the bat nodes within a band around
 the pivot station form a rigid body that may only turn about the fixed pivot axis (z, through
@@ -31,6 +32,7 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
+from batball.contact.columns import ColumnContact
 from batball.contact.segments import SegmentContact
 from batball.elements.hex8 import compute_hex8_forces
 from batball.elements.hex8_block import PRECISIONS, check_precision, constants_terms, pack_history
@@ -118,7 +120,7 @@ class CoupledModel:
     velocity: np.ndarray
     ball: BallPart
     bat: BatPart
-    contacts: tuple[SegmentContact, ...]
+    contacts: tuple[SegmentContact | ColumnContact, ...]
     ball_contacts: int
     shell_state: ShellForceState
 
