@@ -5,4 +5,4 @@ Finite-element models of softballs (and, later, composite bats), the lab tests t
 SI float64 inside; units only at the edges (see :mod:`batball.units`).
 """
 
-__version__ = "0.1.1"
+__version__ = "0.1.2"
