@@ -362,3 +362,204 @@ class CondensedContact:
                 return StaticContactSolution(u, values, forces, active, self.solves)
         raise SimulationError(f"{self.where}: the assumed contact states were corrected "
                               f"{max_rounds} times and are still wrong")
+
+
+def solve_with_kept_factor(
+    matrix: sp.csr_matrix, rhs: np.ndarray, free: np.ndarray, kept: FactorReuse, where: str,
+    *, max_cg: int = 40,
+) -> np.ndarray:
+    """matrix u = rhs with u = 0 off ``free``, by CG preconditioned by ``kept``'s factor of a
+    nearby matrix (at most ``max_cg`` iterations to ``kept.rtol``), else a new factorisation
+    that ``kept`` then holds."""
+    u = np.zeros(rhs.size)
+    reduced = matrix[free][:, free].tocsc()
+    solved = None
+    if kept.factor is not None and kept.free is not None and np.array_equal(kept.free, free):
+        preconditioner = spla.LinearOperator(reduced.shape, matvec=kept.factor.solve)
+        x, info = spla.cg(reduced, rhs[free], rtol=kept.rtol, atol=0.0, M=preconditioner,
+                          maxiter=max_cg)  # fmt: skip
+        if info == 0:
+            solved, kept.cg_solves = np.asarray(x), kept.cg_solves + 1
+    if solved is None:
+        kept.factor, kept.free = factorise(reduced, where), free
+        kept.factorisations += 1
+        solved = kept.factor.solve(rhs[free])
+    u[free] = solved
+    if not np.all(np.isfinite(u)):
+        raise SimulationError(f"{where}: the linear solve returned non-finite displacements")
+    return u
+
+
+#: Halvings of a Newton step allowed while the out-of-balance force grows.
+MAX_HALVINGS = 8
+#: Newton iterations of a frictional step before it turns to the secant tangent.
+NEWTON_ITERATIONS = 12
+
+
+@dataclass(frozen=True)
+class CoulombFriction:
+    """Coulomb friction on the pairs of one normal gap set (small displacements).
+
+    Each pair's slips s = T_d u along fixed tangent directions d (the rows of ``slips``, the
+    master's point minus the slave's, as the normal gap's G) carry a traction tau (n_pairs, 2)
+    [N]: while the pair sticks, tau = k_t (s - xi) with xi the slip so far (the anchor), a
+    spring; when |k_t (s - xi)| would exceed mu times the normal gap's compressive force, the
+    pair slips and tau is that limit along the trial direction (a radial return, exact for a
+    load step whose slip keeps its direction). The traction's work is tau . s, so it enters the
+    equilibrium as the forces T_d^T tau_d.
+
+    Attributes:
+        slips: the tangent rows T_d, each (n_pairs, n_dofs).
+        normal_set: index of the normal gaps (one per pair) among the solve's gap sets.
+        stiffness: stick penalty k_t per pair, (n_pairs,), N/m.
+        mu: friction coefficient (>= 0).
+    """
+
+    slips: tuple[sp.csr_matrix, ...]
+    normal_set: int
+    stiffness: np.ndarray
+    mu: float
+
+    def slip(self, u: np.ndarray) -> np.ndarray:
+        """s of each pair and direction, (n_pairs, n_directions), m."""
+        return np.column_stack([t @ u for t in self.slips])
+
+
+@dataclass(frozen=True)
+class FrictionState:
+    """The converged frictional step.
+
+    Attributes:
+        solution: the normal contact state and displacements.
+        traction: tau, (n_pairs, n_directions), N.
+        anchor: xi after the step, (n_pairs, n_directions), m (the next step's start).
+        stick: pairs sticking, (n_pairs,) bool.
+    """
+
+    solution: StaticContactSolution
+    traction: np.ndarray
+    anchor: np.ndarray
+    stick: np.ndarray
+
+
+def solve_frictional_step(
+    stiffness: sp.spmatrix,
+    gap_sets: Sequence[PenaltyGaps],
+    friction: CoulombFriction,
+    anchor: np.ndarray,
+    *,
+    fixed_dofs: np.ndarray,
+    loads: np.ndarray | None = None,
+    initial_active: Sequence[np.ndarray] | None = None,
+    hysteresis: float = 1e-10,
+    rtol: float = 1e-9,
+    max_iterations: int = 150,
+    where: str = "frictional contact",
+    reuse: FactorReuse | None = None,
+) -> FrictionState:
+    """One load step of penalty contact with Coulomb friction (:class:`CoulombFriction`), by
+    Newton's method on the out-of-balance forces.
+
+    Each iteration takes the normal active set and every pair's state from the current
+    displacements: the trial traction k_t (s - xi) from the anchor ``anchor`` of the step's
+    start; a pair sticks if it is within mu f_n, else it slips with the traction returned to
+    the limit along the trial's direction d (radial return). The tangent is the stick spring
+    k_t for a sticking pair and (mu f_n / |s - xi|)(I - d d^T) for a slipping one (no stiffness
+    along its slip; the change of the limit with the normal force is left out of the tangent,
+    not of the residual). The step is halved while the out-of-balance force grows, and after
+    ``NEWTON_ITERATIONS`` the slipping pairs take their secant mu f_n / |s - xi| in every
+    direction instead (a pair on the stick-slip boundary can make Newton cycle). A normal gap
+    opens or closes only past ``hysteresis`` (m) from its state. Converged when the sets no
+    longer change and the out-of-balance force is below ``rtol`` of the largest of the loads
+    and the penalty forces; the step's slips are then the next anchor. Each solve is CG
+    preconditioned by the last factor (``reuse``, kept across steps), factorising afresh only
+    when CG stalls. (An explicit traction from the previous iterate diverged once most pairs
+    slipped, and the secant alone converged too slowly: docs/barrel.md.)
+
+    Raises:
+        SimulationError: singular system, or no convergence in ``max_iterations`` solves.
+    """
+    n_dofs = stiffness.shape[0]
+    free = np.setdiff1d(np.arange(n_dofs), np.asarray(fixed_dofs, dtype=np.int64))
+    f = np.zeros(n_dofs) if loads is None else np.asarray(loads, dtype=float)
+    if initial_active is None:
+        initial_active = [gaps.initial <= 0.0 for gaps in gap_sets]
+    active = [np.asarray(a, dtype=bool) | gaps.bilateral
+              for a, gaps in zip(initial_active, gap_sets, strict=True)]  # fmt: skip
+    k_t = friction.stiffness
+    residual = np.inf
+    n_dir = len(friction.slips)
+    kept = FactorReuse() if reuse is None else reuse
+
+    def state(u: np.ndarray, before: Sequence[np.ndarray]) -> dict[str, Any]:
+        """The contact state, tractions, tangent and out-of-balance force at ``u``, the gaps
+        closed ``before`` opening only past ``hysteresis`` (and the open ones closing only
+        below minus it: a gap at the kink of its penalty would flip for ever)."""
+        gaps = [g.gaps(u) for g in gap_sets]
+        closed = [np.where(b, g < hysteresis, g < -hysteresis) | s.bilateral
+                  for g, b, s in zip(gaps, before, gap_sets, strict=True)]  # fmt: skip
+        limit = friction.mu * np.maximum(gap_sets[friction.normal_set].forces(u), 0.0)
+        trial = k_t[:, None] * (friction.slip(u) - anchor)
+        size = np.linalg.norm(trial, axis=1)
+        sticks = size <= limit
+        direction = trial / np.maximum(size, 1e-300)[:, None]
+        traction = np.where(sticks[:, None], trial, limit[:, None] * direction)
+        secant = np.where(sticks, k_t, k_t * limit / np.maximum(size, 1e-300))
+        slipping = np.where(sticks, 0.0, 1.0)[:, None, None]
+        tangent = secant[:, None, None] * (
+            np.eye(n_dir)[None] - slipping * direction[:, :, None] * direction[:, None, :])
+        secant_only = secant[:, None, None] * np.eye(n_dir)[None]
+        force = stiffness @ u - f  # K u + penalties + T^T tau - f
+        scale = float(np.abs(f).max(initial=0.0))
+        for g, s, c in zip(gaps, gap_sets, closed, strict=True):
+            k = np.where(c, s.stiffness, 0.0)
+            force += s.matrix.T @ (k * g)
+            scale = max(scale, float(np.abs(k * g).max(initial=0.0)))
+        for d, rows in enumerate(friction.slips):
+            force += rows.T @ traction[:, d]
+        out = np.zeros(n_dofs)
+        out[free] = force[free]
+        return {"gaps": gaps, "closed": closed, "stick": sticks, "traction": traction,
+                "tangent": tangent, "secant": secant_only, "out": out,
+                "norm": float(np.linalg.norm(out)), "scale": scale}  # fmt: skip
+
+    def tangent_matrix(now: dict[str, Any], kind: str) -> sp.csr_matrix:
+        matrix, _ = penalty_system(stiffness, gap_sets, now["closed"])
+        for d, rows_d in enumerate(friction.slips):
+            for e, rows_e in enumerate(friction.slips):
+                matrix = matrix + rows_d.T @ sp.diags(now[kind][:, d, e]) @ rows_e
+        return sp.csr_matrix(matrix)
+
+    # the elastic predictor: every pair sticks at its anchor, the active set from the guess
+    matrix, rhs = penalty_system(stiffness, gap_sets, active)
+    for d, rows in enumerate(friction.slips):
+        matrix = matrix + rows.T @ sp.diags(k_t) @ rows
+        rhs += rows.T @ (k_t * anchor[:, d])
+    u = solve_with_kept_factor(sp.csr_matrix(matrix), rhs + f, free, kept, where)
+    now = state(u, active)
+    for iteration in range(1, max_iterations + 1):
+        # Newton's tangent first; if the states still flip after NEWTON_ITERATIONS (a pair
+        # on the stick-slip boundary can make Newton cycle), the secant (a slipping pair's
+        # traction over its slip, in every direction): slower, but it does not cycle
+        kind = "tangent" if iteration <= NEWTON_ITERATIONS else "secant"
+        du = solve_with_kept_factor(tangent_matrix(now, kind), -now["out"], free, kept, where)
+        step = 1.0
+        for _ in range(MAX_HALVINGS):  # backtrack while the out-of-balance force grows
+            trial_state = state(u + step * du, now["closed"])
+            if trial_state["norm"] < now["norm"]:
+                break
+            step *= 0.5
+        previous, u, now = now, u + step * du, trial_state
+        settled = (all(np.array_equal(a, b)
+                       for a, b in zip(previous["closed"], now["closed"], strict=True))
+                   and np.array_equal(previous["stick"], now["stick"]))  # fmt: skip
+        residual = float(np.abs(now["out"]).max())
+        if settled and residual <= rtol * max(now["scale"], 1e-300):
+            forces = [s.forces(u) for s in gap_sets]
+            traction, stick = now["traction"], now["stick"]
+            slipped = friction.slip(u) - traction / k_t[:, None]
+            anchor_out = np.where(stick[:, None], anchor, slipped)
+            solution = StaticContactSolution(u, now["gaps"], forces, now["closed"], iteration)
+            return FrictionState(solution, traction, anchor_out, stick)
+    raise SimulationError(f"{where}: friction did not converge in {max_iterations} solves "
+                          f"(out-of-balance force {residual:.3g} N)")  # fmt: skip
