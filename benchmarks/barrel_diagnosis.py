@@ -35,8 +35,8 @@ from batball.lab.barrel import (
     compute_prestress,
     condensed_compression,
     contact_areas,
+    insert_friction,
     platen_gaps,
-    wall_at,
 )
 from batball.specs import load_bat_spec
 from batball.specs.bat import BatSpec
@@ -46,38 +46,13 @@ PSI = 6894.757293168
 
 
 def tangential_ties(model: BarrelModel) -> sp.csr_matrix:
-    """Rows tying the insert's outer surface to the barrel's bore along the hoop and the axis.
-
-    The interference gaps' rows hold each pair's nodes and weights (master a, b: 1 - w, w; slave
-    -1) times the radial normal n; a shell point offset o along n moves by u + theta x (o n), so a
-    tie along t has t on the translations and o (n x t) on the rotations."""
-    gaps = model.interference.matrix.tocoo()
-    points = model.mesh.points
-    slave = model.insert_nodes
-    normals = np.zeros((slave.size, 3))
-    normals[:, 1:] = points[slave, 1:] / np.hypot(points[slave, 1], points[slave, 2])[:, None]
-    spec = model.spec
-    assert spec.insert is not None
-    x, radius = points[:, 0], np.hypot(points[:, 1], points[:, 2])
-    offsets = -(radius - (np.asarray(spec.outer_radius(x)) - wall_at(spec, x)))  # bore, inward
-    offsets[slave] = 0.5 * spec.laminate(spec.insert.layup).thickness
-    rows, nodes = gaps.row, gaps.col // 6
-    weights = gaps.data * normals[rows, gaps.col % 6]  # sum over the three components below
-    pairs: dict[tuple[int, int], float] = {}
-    for r, n, w in zip(rows, nodes, weights, strict=True):
-        pairs[(int(r), int(n))] = pairs.get((int(r), int(n)), 0.0) + float(w)
-    hoop = np.cross([1.0, 0.0, 0.0], normals)
-    axial = np.tile([1.0, 0.0, 0.0], (slave.size, 1))
-    data, row_index, col_index = [], [], []
-    for k, tangents in enumerate((hoop, axial)):
-        twist = np.cross(normals, tangents)
-        for (r, n), w in pairs.items():
-            values = np.concatenate([w * tangents[r], w * offsets[n] * twist[r]])
-            data.extend(values)
-            row_index.extend([2 * r + k] * 6)
-            col_index.extend(6 * n + np.arange(6))
-    return sp.csr_matrix((data, (row_index, col_index)),
-                         shape=(2 * slave.size, 6 * points.shape[0]))  # fmt: skip
+    """Rows tying the insert's outer surface to the barrel's bore along the hoop and the axis,
+    pair r's hoop row at 2 r and axial row at 2 r + 1 (lab/barrel's friction slips, which carry
+    the walls' rotations times the surfaces' offsets)."""
+    axial, hoop = insert_friction(model, 0.0).slips
+    n = axial.shape[0]
+    order = np.arange(2 * n).reshape(2, n).T.ravel()
+    return sp.csr_matrix(sp.vstack([hoop, axial]).tocsr()[order])
 
 
 def bonded(model: BarrelModel) -> BarrelModel:

@@ -538,12 +538,20 @@ def add_barrel_parser(sub: Any) -> None:
         help="static steps removing the insert's overlap (default 1: the fit is "
         "linear and frictionless, so the end state does not depend on the path)",
     )
+    p.add_argument(
+        "--friction",
+        type=float,
+        default=0.0,
+        help="Coulomb coefficient between insert and barrel during the squeeze (default 0, "
+        "as the seed; the fit itself stays frictionless; docs/barrel.md)",
+    )
     add_store_options(p)
     p.set_defaults(handler=run_barrel_command)
 
 
 def run_barrel_command(args: argparse.Namespace) -> int:
     """``batball barrel`` (the pivot option is accepted and unused)."""
+    from batball.lab.barrel import BarrelTestOptions
     from batball.lab.barrel_run import run_barrel_test
     from batball.specs import load_bat_spec
 
@@ -554,6 +562,7 @@ def run_barrel_command(args: argparse.Namespace) -> int:
     summary, _ = run_barrel_test(
         spec, runs_dir=args.runs_dir, reuse=not args.no_reuse, ramp_steps=args.ramp_steps,
         circumferential=options["circumferential"], axial_size=options["axial_size"],
+        options=BarrelTestOptions(friction=args.friction),
     )  # fmt: skip
     print(json.dumps(summary, indent=2) if args.json else describe_barrel(summary))
     return 0
@@ -568,6 +577,7 @@ def describe_barrel(s: dict[str, Any]) -> str:
         f"seed FE {seed['preload_lbf']:.0f})",
         f"  final load {s['final_load_lbf']:7.1f} lbf  (experiment {exp['final_load_lbf']:.0f}, "
         f"seed FE {seed['final_load_lbf']:.0f})",
+        f"  insert friction during the squeeze: mu = {s.get('insert_friction', 0.0):g}",
         f"  interference pressure {s['interference_pressure_psi']:.1f} psi (thin rings "
         f"{s['interference_pressure_thin_ring_psi']:.1f} psi)",
         f"  {s['n_shells']} shells, {s['wall_seconds']:.1f} s, results in {s['run_folder']}",

@@ -69,7 +69,7 @@ class PenaltyGaps:
 
 
 def gap_matrix(nodes: np.ndarray, weights: np.ndarray, normals: np.ndarray,
-               n_points: int) -> sp.csr_matrix:  # fmt: skip
+               n_points: int, *, first_dof: int = 0) -> sp.csr_matrix:  # fmt: skip
     """G with row p = sum_k weights[p, k] normals[p] . u(nodes[p, k]).
 
     Args:
@@ -77,13 +77,14 @@ def gap_matrix(nodes: np.ndarray, weights: np.ndarray, normals: np.ndarray,
         weights: (n_gaps, n_terms), dimensionless (+w_a, +w_b for a master, -1 for a slave).
         normals: (n_gaps, 3) unit normals.
         n_points: nodes of the mesh (6 dofs each).
+        first_dof: 0 for the translations u, 3 for the rotations theta.
 
     Returns:
         (n_gaps, 6 n_points) CSR.
     """
     n_gaps, n_terms = nodes.shape
     rows = np.broadcast_to(np.arange(n_gaps)[:, None, None], (n_gaps, n_terms, 3))
-    cols = 6 * nodes[:, :, None] + np.arange(3)[None, None, :]
+    cols = 6 * nodes[:, :, None] + first_dof + np.arange(3)[None, None, :]
     values = weights[:, :, None] * normals[:, None, :]
     return sp.coo_matrix((values.ravel(), (rows.ravel(), cols.ravel())),
                          shape=(n_gaps, 6 * n_points)).tocsr()  # fmt: skip
@@ -125,18 +126,61 @@ def coaxial_ring_gaps(
     Returns:
         One gap per slave node; g0 < 0 where the two contact surfaces overlap.
     """
-    n_around = master_rings.shape[1]
-    column, ring, weight_b = column_pairs(points, slave_nodes, master_rings)
-    master_a, master_b = master_rings[ring, column], master_rings[ring + 1, column]
-    phi = 2.0 * np.pi * column / n_around
+    nodes, weights, phi = coaxial_pairs(points, slave_nodes, master_rings)
     normals = np.stack([np.zeros_like(phi), np.cos(phi), np.sin(phi)], axis=1)
-    weights = np.stack([1.0 - weight_b, weight_b, -np.ones_like(weight_b)], axis=1)
-    nodes = np.stack([master_a, master_b, slave_nodes], axis=1)
+    master_a, master_b = nodes[:, 0], nodes[:, 1]
     position = np.einsum("gk,gki->gi", weights, points[nodes])  # x_master - x_slave
     offset = weights[:, 0] * master_offsets[master_a] + weights[:, 1] * master_offsets[master_b]
     initial = np.einsum("gi,gi->g", position, normals) - offset - slave_offsets
     return PenaltyGaps(gap_matrix(nodes, weights, normals, points.shape[0]), initial,
                        stiffness_per_area * slave_areas)  # fmt: skip
+
+
+def coaxial_pairs(
+    points: np.ndarray, slave_nodes: np.ndarray, master_rings: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each slave node's pair in :func:`coaxial_ring_gaps`: nodes (master a, master b, slave),
+    weights (1 - w, w, -1) whose sum over the nodes is x_master - x_slave, and the pair's angle
+    phi [rad]; (n_slave, 3), (n_slave, 3), (n_slave,)."""
+    column, ring, weight_b = column_pairs(points, slave_nodes, master_rings)
+    nodes = np.stack([master_rings[ring, column], master_rings[ring + 1, column], slave_nodes],
+                     axis=1)  # fmt: skip
+    weights = np.stack([1.0 - weight_b, weight_b, -np.ones_like(weight_b)], axis=1)
+    return nodes, weights, 2.0 * np.pi * column / master_rings.shape[1]
+
+
+def coaxial_ring_slips(
+    points: np.ndarray,
+    *,
+    slave_nodes: np.ndarray,
+    master_rings: np.ndarray,
+    slave_offsets: np.ndarray,
+    master_offsets: np.ndarray,
+) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """The tangential relative displacements at the contact surfaces of :func:`coaxial_ring_gaps`'
+    pairs (the master's surface point minus the slave's), along the axis and around it (the hoop
+    direction at the pair's angle): two (n_slave, 6 n_points) matrices.
+
+    A shell's contact surface lies o along the radial normal n from its mid-surface (the slave's
+    ``slave_offsets`` outward, the master's ``master_offsets`` inward), and a point there moves
+    by u + theta x (o n): along a tangent t that is u . t + o (n x t) . theta. So the rows carry
+    the walls' rotations too: two walls bent alike slide on each other by their curvature times
+    the offsets, which is what the surfaces' friction or a glue resists. Small displacements:
+    fixed directions.
+    """
+    nodes, weights, phi = coaxial_pairs(points, slave_nodes, master_rings)
+    normals = np.stack([np.zeros_like(phi), np.cos(phi), np.sin(phi)], axis=1)
+    offsets = np.column_stack([-master_offsets[nodes[:, 0]], -master_offsets[nodes[:, 1]],
+                               slave_offsets])  # fmt: skip
+    axial = np.zeros_like(normals)
+    axial[:, 0] = 1.0
+    hoop = np.cross(axial, normals)
+    n_points = points.shape[0]
+    return tuple(
+        gap_matrix(nodes, weights, t, n_points)
+        + gap_matrix(nodes, weights * offsets, np.cross(normals, t), n_points, first_dof=3)
+        for t in (axial, hoop)
+    )
 
 
 def rigid_cylinder_gaps(

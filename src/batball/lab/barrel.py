@@ -36,6 +36,7 @@ import scipy.sparse as sp
 from batball.contact.shell_contact import (
     PenaltyGaps,
     coaxial_ring_gaps,
+    coaxial_ring_slips,
     gap_matrix,
     nodal_areas,
     rigid_cylinder_gaps,
@@ -58,7 +59,9 @@ from batball.mesh.bat import (
 from batball.mesh.shell import ShellMesh
 from batball.solvers.static_contact import (
     CondensedContact,
+    CoulombFriction,
     FactorReuse,
+    solve_frictional_step,
     solve_static_contact,
 )
 from batball.specs.bat import BatSpec
@@ -82,6 +85,9 @@ class BarrelTestOptions:
             solved at the preload and final travel only.
         penalty_factor: contact penalty per area over the stiffest hoop membrane stiffness
             A22 / R^2 of the barrel or insert (dimensionless).
+        friction: Coulomb coefficient between insert and barrel during the compression (0:
+            frictionless, the seed's; > 0 solves every orientation in load steps over the curve
+            levels, :func:`compress_barrel_with_friction`).
     """
 
     platen_diameter: float = 3.3 * IN
@@ -93,6 +99,11 @@ class BarrelTestOptions:
     final_steps: int = 5
     curve_orientations: int = 1
     penalty_factor: float = 1e3
+    friction: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.friction) and 0.0 <= self.friction <= 10.0):
+            raise SpecError("friction", self.friction, "a coefficient 0 .. 10")
 
     def travels(self, *, curve: bool) -> np.ndarray:
         """Platen travels solved, m: all curve levels or just (preload, preload + final)."""
@@ -150,6 +161,19 @@ def wall_at(spec: BatSpec, x: np.ndarray) -> np.ndarray:
     return walls[np.clip(np.searchsorted(starts, x, side="right") - 1, 0, len(walls) - 1)]
 
 
+def bore_offsets(spec: BatSpec, points: np.ndarray) -> np.ndarray:
+    """Each node's mid-surface radius minus the bore's (the outer wall's inner surface) at its
+    x, (n_points,), m: how far inside its mid-surface the barrel's contact surface lies."""
+    x, radius = points[:, 0], np.hypot(points[:, 1], points[:, 2])
+    return radius - (np.asarray(spec.outer_radius(x)) - wall_at(spec, x))
+
+
+def insert_half_wall(spec: BatSpec) -> float:
+    """Half the insert's wall, m: its contact surface lies this far outside its mid-surface."""
+    assert spec.insert is not None
+    return 0.5 * spec.laminate(spec.insert.layup).thickness
+
+
 def contact_stiffness_per_area(spec: BatSpec, mesh: ShellMesh, section: ShellSection,
                                factor: float) -> float:  # fmt: skip
     """factor * max(A22) / R_bore^2 over the insert and the barrel cells beside it, N/m^3."""
@@ -184,13 +208,12 @@ def build_barrel_model(
     rings = outer_rings(mesh)
     x, radius = mesh.points[:, 0], np.hypot(mesh.points[:, 1], mesh.points[:, 2])
     outer_offsets = np.asarray(spec.outer_radius(x)) - radius
-    bore_offsets = radius - (np.asarray(spec.outer_radius(x)) - wall_at(spec, x))
     insert = mesh.point_sets["insert"]
     k_area = contact_stiffness_per_area(spec, mesh, section, penalty_factor)
-    insert_wall = spec.laminate(spec.insert.layup).thickness
     interference = coaxial_ring_gaps(
         mesh.points, slave_nodes=insert, master_rings=rings,
-        slave_offsets=np.full(insert.size, 0.5 * insert_wall), master_offsets=bore_offsets,
+        slave_offsets=np.full(insert.size, insert_half_wall(spec)),
+        master_offsets=bore_offsets(spec, mesh.points),
         slave_areas=nodal_areas(mesh.points, mesh.cells)[insert], stiffness_per_area=k_area,
     )  # fmt: skip
     stiffness = assemble_shell_stiffness(mesh, section)
@@ -229,8 +252,7 @@ def contact_areas(model: BarrelModel) -> np.ndarray:
     """Each insert node's share of the contact surface (its outer surface), (n_insert,), m^2."""
     insert = model.insert_nodes
     radius = np.hypot(model.mesh.points[insert, 1], model.mesh.points[insert, 2])
-    assert model.spec.insert is not None
-    half_wall = 0.5 * model.spec.laminate(model.spec.insert.layup).thickness
+    half_wall = insert_half_wall(model.spec)
     mid_areas = model.interference.stiffness / model.contact_stiffness_per_area
     return mid_areas * (radius + half_wall) / radius
 
@@ -427,6 +449,84 @@ def compress_barrel(model: BarrelModel, prestress: Prestress, options: BarrelTes
                             condensed.factorisations)  # fmt: skip
 
 
+#: The stick spring of a frictional insert pair over its normal penalty: 0.01 and 0.03 give the
+#: same loads to 0.01 lbf (docs/barrel.md); from 0.1 up the stick-slip iteration cycles.
+STICK_FACTOR = 0.01
+
+
+def insert_friction(model: BarrelModel, mu: float, *,
+                    stick_factor: float = STICK_FACTOR) -> CoulombFriction:  # fmt: skip
+    """Coulomb friction ``mu`` on the insert's fit pairs, axial and around; the stick spring of
+    each pair is ``stick_factor`` times its normal penalty."""
+    if not (np.isfinite(mu) and mu >= 0.0):
+        raise SpecError("friction", mu, "a coefficient >= 0")
+    slips = coaxial_ring_slips(
+        model.mesh.points, slave_nodes=model.insert_nodes, master_rings=model.outer_rings,
+        slave_offsets=np.full(model.insert_nodes.size, insert_half_wall(model.spec)),
+        master_offsets=bore_offsets(model.spec, model.mesh.points),
+    )  # fmt: skip
+    return CoulombFriction(slips, 0, stick_factor * model.interference.stiffness, mu)
+
+
+def compress_barrel_with_friction(
+    model: BarrelModel,
+    prestress: Prestress,
+    options: BarrelTestOptions,
+    orientation_deg: float,
+    mu: float,
+    *,
+    stick_factor: float = STICK_FACTOR,
+) -> CompressionCurve:
+    """The compression of :func:`compress_barrel` with Coulomb friction ``mu`` between insert
+    and barrel, by load steps over every curve level (friction makes the path count).
+
+    The fit is the frictionless pre-stress (the insert is pressed in axially, so its radial fit
+    is taken to have slid to the frictionless state; docs/barrel.md): at zero travel every pair
+    sticks with no traction, and the platens' travel then loads the interface. The bottom
+    platen's first-touch gap is a two-sided spring (it holds the bat against rigid motion
+    along the load, as the frictionless solve's assumed-closed gap; it stays compressed)."""
+    load, _ = load_axes(orientation_deg)
+    n_points = model.mesh.n_points
+    fixed, springs = compression_supports(model, options, orientation_deg)
+    friction = insert_friction(model, mu, stick_factor=stick_factor)
+    insert_cosine = insert_cosines(model, load)
+    travels = options.travels(curve=True)
+    force, upper, lower = np.zeros(travels.size), np.zeros(travels.size), np.zeros(travels.size)
+    reuse, kept, solves = FactorReuse(), FactorReuse(rtol=1e-12), 0
+    where = f"barrel compression with friction {mu:g} at {orientation_deg:g} deg"
+
+    fit = replace(model.interference, bilateral=True)
+
+    def gap_sets(travel: float) -> list[PenaltyGaps]:
+        top, bottom = platen_gaps(model, options, orientation_deg, travel, prestress.u)
+        held = bottom.initial <= bottom.initial.min() + 1e-12
+        rest = replace(bottom, stiffness=np.where(held, 0.0, bottom.stiffness))
+        holder = replace(bottom, stiffness=np.where(held, bottom.stiffness, 0.0), bilateral=True)
+        return [fit, top, rest, holder, springs]
+
+    # the fit under the compression's supports (they hold insert and barrel axially at the
+    # platen's ring, where the pre-stress's held other points): the stick's zero
+    start = gap_sets(0.0)
+    active = [prestress.active, start[1].initial <= 0.0, start[2].initial <= 0.0,
+              start[3].stiffness > 0.0, np.ones(springs.n_gaps, bool)]  # fmt: skip
+    fitted = solve_static_contact(model.stiffness, start, fixed_dofs=fixed,
+                                  initial_active=active, where=where, reuse=reuse)  # fmt: skip
+    anchor, active = friction.slip(fitted.u), fitted.active
+    for level, travel in enumerate(travels):
+        sets = gap_sets(travel)
+        top = sets[1]
+        state = solve_frictional_step(model.stiffness, sets, friction, anchor, fixed_dofs=fixed,
+                                      initial_active=active, where=where, reuse=kept)  # fmt: skip
+        anchor, active = state.anchor, state.solution.active
+        solves += state.solution.iterations
+        if level == 0:
+            top_cosine = along(top, load, n_points)
+        force[level] = -(state.solution.forces[1] * top_cosine).sum()
+        upper[level], lower[level] = halves(state.solution.forces[0], insert_cosine)
+    return CompressionCurve(orientation_deg, travels, force, upper, lower, solves,
+                            kept.factorisations + reuse.factorisations)  # fmt: skip
+
+
 @dataclass(frozen=True)
 class BarrelResult:
     """The pre-stress and the compression at every orientation, with Table 2's numbers.
@@ -456,10 +556,15 @@ class BarrelResult:
 def run_barrel_compression(model: BarrelModel, prestress: Prestress,
                            options: BarrelTestOptions) -> BarrelResult:  # fmt: skip
     """The compression at every orientation of ``options`` from the pre-stressed state."""
-    curves = tuple(
-        compress_barrel(model, prestress, options, angle, curve=k < options.curve_orientations)
-        for k, angle in enumerate(options.orientations_deg)
-    )
+    if options.friction > 0.0:
+        curves = tuple(compress_barrel_with_friction(model, prestress, options, angle,
+                                                     options.friction)
+                       for angle in options.orientations_deg)  # fmt: skip
+    else:
+        curves = tuple(
+            compress_barrel(model, prestress, options, angle, curve=k < options.curve_orientations)
+            for k, angle in enumerate(options.orientations_deg)
+        )
     return BarrelResult(model, prestress, curves, options)
 
 

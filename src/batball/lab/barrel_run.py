@@ -157,6 +157,7 @@ def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any
             },
             "orientation_deg": curve.orientation_deg,
         },  # fmt: skip
+        "insert_friction": options.friction,
         "platen_diameter_in": options.platen_diameter / IN,
         "platen_from_cap_in": options.distance_from_cap / IN,
         "triangular_solves": int(sum(c.iterations for c in result.curves)),

@@ -164,3 +164,18 @@ def test_the_insert_halves_are_split_by_node_angle(model) -> None:
     assert np.mean(np.abs(cosine) < 1e-9) == pytest.approx(2 / 16)
     top, bottom = halves(np.where(cosine > 1e-9, 1.0, 0.0), cosine)
     assert (top, bottom) == (pytest.approx(np.sum(cosine > 1e-9)), 0.0)
+
+
+def test_cli_runs_the_squeeze_with_friction_and_refuses_a_negative_one(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    base = ["barrel", "--json", "--runs-dir", str(tmp_path), "--circumferential", "8",
+            "--axial-size", "1 in"]  # fmt: skip
+    assert main(base) == 0
+    frictionless = json.loads(capsys.readouterr().out)
+    assert main([*base, "--friction", "0.3"]) == 0
+    rubbing = json.loads(capsys.readouterr().out)
+    assert rubbing["insert_friction"] == 0.3 and frictionless["insert_friction"] == 0.0
+    assert rubbing["preload_lbf"] > frictionless["preload_lbf"]  # sticking stiffens the start
+    assert main([*base, "--friction", "-0.1"]) == 2
+    assert "friction" in capsys.readouterr().err

@@ -1,0 +1,84 @@
+"""Coulomb friction between insert and barrel in the barrel compression (lab/barrel,
+solvers/static_contact.solve_frictional_step) against two independent routes on a coarse bat:
+with mu = 0 it is the frictionless contact solve (the condensed one of `compress_barrel`), and
+with mu so large that every pair sticks it is, while every pair is pressed, a linear solve with
+the stick springs as glue (the active-set solver with one more, two-sided, gap set). A finite
+mu lies between the two.
+The closed-form slider checks of the friction law itself are in
+tests/unit/solvers/test_static_friction.py."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from batball.contact.shell_contact import PenaltyGaps
+from batball.lab.barrel import (
+    BarrelTestOptions,
+    build_barrel_model,
+    compress_barrel,
+    compress_barrel_with_friction,
+    compression_supports,
+    compute_prestress,
+    insert_friction,
+    platen_gaps,
+)
+from batball.solvers.static_contact import solve_static_contact
+from batball.specs import load_bat_spec
+
+IN = 0.0254
+OPTIONS = BarrelTestOptions(preload_steps=2, final_steps=2)
+
+
+@pytest.fixture(scope="module")
+def coarse():  # noqa: ANN201
+    model = build_barrel_model(load_bat_spec("default"), circumferential=8, axial_size=1.0 * IN)
+    return model, compute_prestress(model)
+
+
+def test_without_friction_it_is_the_frictionless_solve(coarse) -> None:  # noqa: ANN001
+    model, prestress = coarse
+    frictionless = compress_barrel(model, prestress, OPTIONS, 0.0, curve=True)
+    with_zero = compress_barrel_with_friction(model, prestress, OPTIONS, 0.0, 0.0)
+    np.testing.assert_allclose(with_zero.force, frictionless.force, rtol=1e-6)
+
+
+def test_when_every_pair_sticks_it_is_the_glued_linear_solve(coarse) -> None:  # noqa: ANN001
+    model, prestress = coarse
+    stuck = compress_barrel_with_friction(model, prestress, OPTIONS, 0.0, 1e6)
+    # the glue: the stick springs k_t (T u - xi) with xi the slips of the fit under the
+    # compression's supports, as a two-sided gap set of the frictionless active-set solver
+    friction = insert_friction(model, 1e6)
+    fixed, springs = compression_supports(model, OPTIONS, 0.0)
+    fit = dataclasses.replace(model.interference, bilateral=True)
+    forces = []
+    for k, travel in enumerate(OPTIONS.travels(curve=True)):
+        top, bottom = platen_gaps(model, OPTIONS, 0.0, travel, prestress.u)
+        held = bottom.initial <= bottom.initial.min() + 1e-12
+        rest = dataclasses.replace(bottom, stiffness=np.where(held, 0, bottom.stiffness))
+        holder = dataclasses.replace(bottom, stiffness=np.where(held, bottom.stiffness, 0),
+                                     bilateral=True)  # fmt: skip
+        sets = [fit, top, rest, holder, springs]
+        if k == 0:
+            start = platen_gaps(model, OPTIONS, 0.0, 0.0, prestress.u)
+            at_rest = [fit, start[0], sets[2], sets[3], springs]
+            u0 = solve_static_contact(model.stiffness, at_rest, fixed_dofs=fixed).u
+            anchor = friction.slip(u0)
+        glue = [PenaltyGaps(rows, -anchor[:, d], friction.stiffness, bilateral=True)
+                for d, rows in enumerate(friction.slips)]  # fmt: skip
+        solution = solve_static_contact(model.stiffness, [*sets, *glue], fixed_dofs=fixed)
+        forces.append(-(solution.forces[1] * (top.matrix @ np.tile([0, 1, 0, 0, 0, 0],
+                                                                    model.mesh.n_points))).sum())
+    # exact while every fit pair is pressed (the first level); further on the squeeze pulls some
+    # pairs apart, and a pair in tension has no friction where the glue still holds it
+    assert stuck.force[0] == pytest.approx(forces[0], rel=1e-6)
+    assert np.all(stuck.force[1:] < np.array(forces[1:]))
+
+
+def test_friction_lies_between_sliding_and_sticking(coarse) -> None:  # noqa: ANN001
+    model, prestress = coarse
+    loads = [compress_barrel_with_friction(model, prestress, OPTIONS, 0.0, mu).force
+             for mu in (0.0, 0.2, 1e6)]  # fmt: skip
+    assert np.all(loads[0] < loads[1]) and np.all(loads[1] < loads[2])
