@@ -186,6 +186,72 @@ def scatter_column_forces(slave_nodes: np.ndarray, master_rings: np.ndarray, col
     return touching
 
 
+@nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
+def column_friction_forces(points: np.ndarray, slave_nodes: np.ndarray, master_rings: np.ndarray,
+                           column: np.ndarray, ring: np.ndarray, weight_b: np.ndarray,
+                           slave_force: np.ndarray, penetration: np.ndarray, mu: float,
+                           stiffness: np.ndarray, last_relative: np.ndarray,
+                           last_pair: np.ndarray, friction_force: np.ndarray) -> None:  # fmt: skip
+    """Coulomb friction on each touching pair (:class:`ColumnContact`), per slave row: the
+    friction force on the slave, (n_slaves, 3) [N], grows by ``stiffness`` times the tangential
+    part of the change of x_m - x since the last call (the old force turned into the new
+    tangent plane), capped at ``mu`` times the normal force. The change is measured at the
+    column's material point of the last call (``last_pair``: its ring and s, (n_slaves, 2)),
+    not at the closest point, which follows the slave along the column; ``last_relative``
+    (n_slaves, 3) [m] and ``last_pair`` then take the new closest point. A free pair carries
+    none."""
+    for n in nb.prange(slave_nodes.shape[0]):
+        a = master_rings[ring[n], column[n]]
+        b = master_rings[ring[n] + 1, column[n]]
+        s = weight_b[n]
+        x = points[slave_nodes[n]]
+        rel, then = np.empty(3), np.empty(3)
+        old_ring, old_s = int(last_pair[n, 0]), last_pair[n, 1]
+        a_then = master_rings[old_ring, column[n]]
+        b_then = master_rings[old_ring + 1, column[n]]
+        for k in range(3):
+            rel[k] = (1.0 - s) * points[a, k] + s * points[b, k] - x[k]
+            then[k] = (1.0 - old_s) * points[a_then, k] + old_s * points[b_then, k] - x[k]
+        last_pair[n, 0], last_pair[n, 1] = ring[n], s
+        normal_force = np.sqrt(slave_force[n, 0] ** 2 + slave_force[n, 1] ** 2
+                               + slave_force[n, 2] ** 2)  # fmt: skip
+        if penetration[n] <= 0.0 or normal_force == 0.0:
+            for k in range(3):
+                friction_force[n, k] = 0.0
+                last_relative[n, k] = rel[k]
+            continue
+        m0 = -slave_force[n, 0] / normal_force  # towards the master
+        m1 = -slave_force[n, 1] / normal_force
+        m2 = -slave_force[n, 2] / normal_force
+        d0 = then[0] - last_relative[n, 0]
+        d1 = then[1] - last_relative[n, 1]
+        d2 = then[2] - last_relative[n, 2]
+        along = d0 * m0 + d1 * m1 + d2 * m2
+        old = friction_force[n, 0] * m0 + friction_force[n, 1] * m1 + friction_force[n, 2] * m2
+        f0 = friction_force[n, 0] - old * m0 + stiffness[n] * (d0 - along * m0)
+        f1 = friction_force[n, 1] - old * m1 + stiffness[n] * (d1 - along * m1)
+        f2 = friction_force[n, 2] - old * m2 + stiffness[n] * (d2 - along * m2)
+        size = np.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+        scale = min(1.0, mu * normal_force / size) if size > 0.0 else 1.0
+        friction_force[n, 0], friction_force[n, 1] = f0 * scale, f1 * scale
+        friction_force[n, 2] = f2 * scale
+        for k in range(3):
+            last_relative[n, k] = rel[k]
+
+
+@nb.njit(cache=True)
+def scatter_column_shares(slave_nodes: np.ndarray, master_rings: np.ndarray, column: np.ndarray,
+                          ring: np.ndarray, weight_b: np.ndarray, slave_force: np.ndarray,
+                          forces: np.ndarray) -> None:  # fmt: skip
+    """Add a force on each slave and its opposite, shared (1 - s, s), on its column's point."""
+    for n in range(slave_nodes.shape[0]):
+        a, b = master_rings[ring[n], column[n]], master_rings[ring[n] + 1, column[n]]
+        for k in range(3):
+            forces[slave_nodes[n], k] += slave_force[n, k]
+            forces[a, k] -= (1.0 - weight_b[n]) * slave_force[n, k]
+            forces[b, k] -= weight_b[n] * slave_force[n, k]
+
+
 @dataclass
 class ColumnContact:
     """Inner shell's nodes (slaves) against the outer shell's node columns (module docs); the
@@ -199,6 +265,10 @@ class ColumnContact:
             2 pi j / n_around); master_thickness: (n_points,) contact thickness by node [m].
         gap_offset: (n_slaves,) initial overlap ignored [m].
         points: (n_points, 3) the undeformed nodes [m], which pair each slave with its column.
+        friction: Coulomb coefficient (0: frictionless); the stick spring is each pair's
+            normal penalty. Friction is not conservative and its force, acting at the slave and
+            at the column point (a wall's distance apart), has a small moment; it is off unless
+            set (:meth:`start_friction`).
     """
 
     name: str
@@ -209,6 +279,7 @@ class ColumnContact:
     master_thickness: np.ndarray
     points: InitVar[np.ndarray]
     gap_offset: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    friction: float = 0.0
 
     def __post_init__(self, points: np.ndarray) -> None:
         n = self.slave_nodes.size
@@ -219,6 +290,9 @@ class ColumnContact:
         self.slave_force = np.zeros((n, 3))
         self.tilt_force = np.zeros((n, 4, 3))
         self.penetration = np.zeros(n)
+        self.friction_force = np.zeros((n, 3))
+        self.last_relative = np.zeros((n, 3))
+        self.last_pair = np.column_stack([self.ring, self.weight_b]).astype(float)
 
     def search(self, points: np.ndarray) -> None:
         """Nothing to search: each slave walks along its column in :meth:`add_forces`."""
@@ -229,9 +303,24 @@ class ColumnContact:
                               self.slave_stiffness, self.master_rings, self.master_thickness,
                               self.column, self.ring, self.gap_offset, self.weight_b,
                               self.slave_force, self.tilt_force, self.penetration)  # fmt: skip
-        return int(scatter_column_forces(self.slave_nodes, self.master_rings, self.column,
+        touching = scatter_column_forces(self.slave_nodes, self.master_rings, self.column,
                                          self.ring, self.weight_b, self.slave_force,
-                                         self.tilt_force, self.penetration, forces))  # fmt: skip
+                                         self.tilt_force, self.penetration, forces)  # fmt: skip
+        if self.friction > 0.0:
+            column_friction_forces(points, self.slave_nodes, self.master_rings, self.column,
+                                   self.ring, self.weight_b, self.slave_force, self.penetration,
+                                   self.friction, self.slave_stiffness, self.last_relative,
+                                   self.last_pair, self.friction_force)  # fmt: skip
+            scatter_column_shares(self.slave_nodes, self.master_rings, self.column, self.ring,
+                                  self.weight_b, self.friction_force, forces)  # fmt: skip
+        return int(touching)
+
+    def start_friction(self, friction: float, points: np.ndarray) -> None:
+        """Turn Coulomb friction ``friction`` on from the state ``points`` (no force yet)."""
+        self.friction = friction
+        self.friction_force[:] = 0.0
+        self.add_forces(points, np.zeros_like(points))  # sets the pairs and their x_m - x
+        self.friction_force[:] = 0.0
 
     def initial_overlap(self, points: np.ndarray) -> np.ndarray:
         """Each slave's penetration in ``points`` with no offset, (n_slaves,) [m]."""

@@ -96,6 +96,8 @@ class BbsSetup:
             a float is the target step itself [s] (TSSFAC |DT2MS|); None: no mass added.
         precision: the ball's hex kernel, "single" (default, as the impact lab and LS-DYNA's
             default executable) or "double" (docs/precision.md).
+        insert_friction: Coulomb coefficient between insert and barrel during the impact (the
+            fit is pressed frictionless; 0, the default, as the seed's contact).
     """
 
     speed: float = 110.0 * MPH
@@ -124,6 +126,7 @@ class BbsSetup:
     mass_scaling: float | str | None = "barrel"
     contact_reach: float | None = 3.0 * IN
     precision: str = "single"
+    insert_friction: float = 0.0
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.speed) and 0 < self.speed <= 100.0):
@@ -137,6 +140,8 @@ class BbsSetup:
         if not 8 <= self.circumferential <= 256:
             raise SpecError("circumferential", self.circumferential, "an integer 8..256")
         check_precision(self.precision)
+        if not (np.isfinite(self.insert_friction) and 0.0 <= self.insert_friction <= 10.0):
+            raise SpecError("insert_friction", self.insert_friction, "a coefficient 0 .. 10")
         if not 0.01 * IN <= self.axial_size <= 2.0 * IN:
             raise SpecError("axial_size", f"{self.axial_size / IN:.4g} in", "0.01 in .. 2 in")
         if not 0.0 < self.pivot_band <= 3.0 * IN:
@@ -399,6 +404,10 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
         ratio = solver.relax_bat(interference=model.interference, ramp_steps=ramp,
                                  settle_steps=settle)  # fmt: skip
         pressure = insert_pressure(model, solver.points)
+    if setup.insert_friction > 0.0:
+        for pair in inserts:
+            if isinstance(pair, ColumnContact):
+                pair.start_friction(setup.insert_friction, solver.points)
     result = solver.run()
     result.prestress_kinetic_ratio, result.interference_pressure = ratio, pressure
     return result

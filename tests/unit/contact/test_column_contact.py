@@ -112,3 +112,23 @@ def test_a_node_sliding_over_a_ring_changes_segment_without_a_jump() -> None:
     )
     for _, force in seen:
         np.testing.assert_allclose(force, expected, atol=1e-9)
+
+
+def test_friction_sticks_as_a_spring_then_slides_at_mu_times_the_normal_force() -> None:
+    # a node pressed on a straight tube, moved along the axis: the friction force on it is
+    # -k delta while k delta < mu f_n (k the pair's penalty), then mu f_n against the motion
+    phi = 2 * np.pi * 2 / N_AROUND
+    points, rings, slaves = tube_and_slaves(np.full(RING_X.size, 0.025), np.array([0.03]),
+                                            np.array([0.0205]), np.array([phi]))  # fmt: skip
+    pair = contact(points, rings, slaves)
+    pair.start_friction(0.2, points)
+    normal = STIFFNESS * (SLAVE_T + MASTER_T - (0.025 - 0.0205))
+    for delta, expected in ((1e-8, -STIFFNESS * 1e-8), (2e-8, -STIFFNESS * 2e-8),
+                            (1e-3, -0.2 * normal)):  # fmt: skip
+        moved = points.copy()
+        moved[slaves[0], 0] += delta
+        forces = np.zeros_like(points)
+        pair.add_forces(moved, forces)
+        assert pair.friction_force[0, 0] == pytest.approx(expected, rel=1e-6)
+        np.testing.assert_allclose(pair.friction_force[0, 1:], 0.0, atol=1e-9 * normal)
+        np.testing.assert_allclose(forces.sum(axis=0), 0.0, atol=1e-9 * normal)
