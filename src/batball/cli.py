@@ -734,6 +734,9 @@ def add_bbs_parser(sub: Any) -> None:
                    help="selective mass scaling of the shells below a target step (LS-DYNA "
                         "DT2MS < 0): barrel (default: the barrel's or the ball's step), off, "
                         "or the target step, e.g. '2e-7 s'")  # fmt: skip
+    p.add_argument("--insert-friction", type=float, default=0.0,
+                   help="Coulomb coefficient between insert and barrel during the impact "
+                        "(default 0, as the seed; the fit is pressed frictionless)")  # fmt: skip
     add_precision_option(p)
     add_store_options(p)
     p.set_defaults(handler=run_bbs_command)
@@ -759,6 +762,7 @@ def bbs_setup(args: argparse.Namespace) -> Any:
         axial_size=mesh["axial_size"], rigid_bat=args.rigid_bat,
         end_time=parse_quantity(args.end_time, "time", field="end-time"),
         mass_scaling=mass_scaling_option(args.mass_scaling), precision=args.precision,
+        insert_friction=args.insert_friction,
     )  # fmt: skip
 
 

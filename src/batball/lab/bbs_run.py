@@ -71,6 +71,7 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         "pivot_moi_oz_in2": m.pivot_inertia / OZ_IN2,
         "model_pivot_moi_oz_in2": m.model_pivot_inertia / OZ_IN2,
         "mass_scaling": setup.mass_scaling,
+        "insert_friction": setup.insert_friction,
         "added_mass_g": float(result.model.added_mass.sum() * 1e3),
         "added_mass_percent": float(
             100 * result.model.added_mass.sum() / result.model.coupled.bat.mass[:, 0].sum()

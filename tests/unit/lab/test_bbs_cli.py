@@ -43,7 +43,7 @@ def test_bbs_json_has_the_keys_and_writes_the_run_folder(tmp_path: Path, capsys)
 @pytest.mark.parametrize(
     ("option", "value", "field"),
     [("--speed", "300 mph", "speed"), ("--pivot-band", "0 in", "pivot_band"),
-     ("--speed", "95 lbf", "speed")],
+     ("--speed", "95 lbf", "speed"), ("--insert-friction", "-0.2", "insert_friction")],
 )  # fmt: skip
 def test_bad_input_names_the_field(tmp_path: Path, capsys, option: str, value: str,
                                    field: str) -> None:  # fmt: skip
