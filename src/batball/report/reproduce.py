@@ -484,7 +484,8 @@ def run_batted_ball_speed(inputs: Inputs) -> RunnerOutput:
     sizes = inputs.options.meshes.bbs
     if sizes is None:
         raise SkippedError(
-            "skipped with --quick: four coupled ball-bat runs take minutes each; run "
+            "skipped with --quick: four full-size coupled ball-bat runs (30-70 s each on two "
+            "threads, benchmarks/RESULTS.md); run "
             "batball reproduce without --quick, or batball bbs"
         )
     runs = []
