@@ -34,6 +34,9 @@ ring after ring. The node touches the polyline through that column:
   forces) has no such stiffness but is not conservative (n follows the neighbours, which get
   no reaction): the full mesh's relaxation then stalled at 7.5e-3 J (kinetic-energy ratio 0.7)
   where the gradient form ends at 5e-5 J (ratio 0.008).
+* Friction (optional, off by default; :meth:`ColumnContact.start_friction`): Coulomb, with the
+  pair's penalty as the stick spring and the slip measured at the column's material point;
+  not conservative, and acting a wall apart it carries a small moment (docs/bbs.md).
 """
 
 from __future__ import annotations

@@ -442,6 +442,30 @@ class FrictionState:
     stick: np.ndarray
 
 
+@dataclass(frozen=True)
+class FrictionIterate:
+    """One iterate of :func:`solve_frictional_step` at displacements u.
+
+    Attributes:
+        gaps, closed: each normal set's gaps [m] and closed flags.
+        stick: pairs within the Coulomb limit; traction: (n_pairs, n_dir) [N].
+        tangent, secant: (n_pairs, n_dir, n_dir) pair stiffnesses [N/m], Newton's and the
+            secant's.
+        out: the out-of-balance force on the free dofs, (n_dofs,) [N]; norm: its 2-norm [N];
+        scale: the largest load or penalty force, for the tolerance [N].
+    """
+
+    gaps: list[np.ndarray]
+    closed: list[np.ndarray]
+    stick: np.ndarray
+    traction: np.ndarray
+    tangent: np.ndarray
+    secant: np.ndarray
+    out: np.ndarray
+    norm: float
+    scale: float
+
+
 def solve_frictional_step(
     stiffness: sp.spmatrix,
     gap_sets: Sequence[PenaltyGaps],
@@ -491,7 +515,7 @@ def solve_frictional_step(
     n_dir = len(friction.slips)
     kept = FactorReuse() if reuse is None else reuse
 
-    def state(u: np.ndarray, before: Sequence[np.ndarray]) -> dict[str, Any]:
+    def state(u: np.ndarray, before: Sequence[np.ndarray]) -> FrictionIterate:
         """The contact state, tractions, tangent and out-of-balance force at ``u``, the gaps
         closed ``before`` opening only past ``hysteresis`` (and the open ones closing only
         below minus it: a gap at the kink of its penalty would flip for ever)."""
@@ -519,15 +543,15 @@ def solve_frictional_step(
             force += rows.T @ traction[:, d]
         out = np.zeros(n_dofs)
         out[free] = force[free]
-        return {"gaps": gaps, "closed": closed, "stick": sticks, "traction": traction,
-                "tangent": tangent, "secant": secant_only, "out": out,
-                "norm": float(np.linalg.norm(out)), "scale": scale}  # fmt: skip
+        return FrictionIterate(gaps, closed, sticks, traction, tangent, secant_only, out,
+                               float(np.linalg.norm(out)), scale)  # fmt: skip
 
-    def tangent_matrix(now: dict[str, Any], kind: str) -> sp.csr_matrix:
-        matrix, _ = penalty_system(stiffness, gap_sets, now["closed"])
+    def tangent_matrix(now: FrictionIterate, newton: bool) -> sp.csr_matrix:
+        matrix, _ = penalty_system(stiffness, gap_sets, now.closed)
+        pairs = now.tangent if newton else now.secant
         for d, rows_d in enumerate(friction.slips):
             for e, rows_e in enumerate(friction.slips):
-                matrix = matrix + rows_d.T @ sp.diags(now[kind][:, d, e]) @ rows_e
+                matrix = matrix + rows_d.T @ sp.diags(pairs[:, d, e]) @ rows_e
         return sp.csr_matrix(matrix)
 
     # the elastic predictor: every pair sticks at its anchor, the active set from the guess
@@ -541,25 +565,25 @@ def solve_frictional_step(
         # Newton's tangent first; if the states still flip after NEWTON_ITERATIONS (a pair
         # on the stick-slip boundary can make Newton cycle), the secant (a slipping pair's
         # traction over its slip, in every direction): slower, but it does not cycle
-        kind = "tangent" if iteration <= NEWTON_ITERATIONS else "secant"
-        du = solve_with_kept_factor(tangent_matrix(now, kind), -now["out"], free, kept, where)
+        newton = iteration <= NEWTON_ITERATIONS
+        du = solve_with_kept_factor(tangent_matrix(now, newton), -now.out, free, kept, where)
         step = 1.0
         for _ in range(MAX_HALVINGS):  # backtrack while the out-of-balance force grows
-            trial_state = state(u + step * du, now["closed"])
-            if trial_state["norm"] < now["norm"]:
+            trial_state = state(u + step * du, now.closed)
+            if trial_state.norm < now.norm:
                 break
             step *= 0.5
         previous, u, now = now, u + step * du, trial_state
         settled = (all(np.array_equal(a, b)
-                       for a, b in zip(previous["closed"], now["closed"], strict=True))
-                   and np.array_equal(previous["stick"], now["stick"]))  # fmt: skip
-        residual = float(np.abs(now["out"]).max())
-        if settled and residual <= rtol * max(now["scale"], 1e-300):
+                       for a, b in zip(previous.closed, now.closed, strict=True))
+                   and np.array_equal(previous.stick, now.stick))  # fmt: skip
+        residual = float(np.abs(now.out).max())
+        if settled and residual <= rtol * max(now.scale, 1e-300):
             forces = [s.forces(u) for s in gap_sets]
-            traction, stick = now["traction"], now["stick"]
+            traction, stick = now.traction, now.stick
             slipped = friction.slip(u) - traction / k_t[:, None]
             anchor_out = np.where(stick[:, None], anchor, slipped)
-            solution = StaticContactSolution(u, now["gaps"], forces, now["closed"], iteration)
+            solution = StaticContactSolution(u, now.gaps, forces, now.closed, iteration)
             return FrictionState(solution, traction, anchor_out, stick)
     raise SimulationError(f"{where}: friction did not converge in {max_iterations} solves "
                           f"(out-of-balance force {residual:.3g} N)")  # fmt: skip
