@@ -466,6 +466,63 @@ class FrictionIterate:
     scale: float
 
 
+@dataclass(frozen=True)
+class FrictionProblem:
+    """One frictional load step's data (:func:`solve_frictional_step`): K, the normal gap sets,
+    the friction, the step's anchor xi (n_pairs, n_dir) [m], the loads f (n_dofs,) [N], the
+    free dofs and the gaps' hysteresis [m]."""
+
+    stiffness: sp.spmatrix
+    gap_sets: list[PenaltyGaps]
+    friction: CoulombFriction
+    anchor: np.ndarray
+    loads: np.ndarray
+    free: np.ndarray
+    hysteresis: float
+
+    def iterate(self, u: np.ndarray, before: Sequence[np.ndarray]) -> FrictionIterate:
+        """The contact state, tractions, tangents and out-of-balance force at ``u``, the gaps
+        closed ``before`` opening only past the hysteresis (and the open ones closing only
+        below minus it: a gap at the kink of its penalty would flip for ever)."""
+        h, friction, k_t = self.hysteresis, self.friction, self.friction.stiffness
+        n_dir = len(friction.slips)
+        gaps = [g.gaps(u) for g in self.gap_sets]
+        closed = [np.where(b, g < h, g < -h) | s.bilateral
+                  for g, b, s in zip(gaps, before, self.gap_sets, strict=True)]  # fmt: skip
+        limit = friction.mu * np.maximum(self.gap_sets[friction.normal_set].forces(u), 0.0)
+        trial = k_t[:, None] * (friction.slip(u) - self.anchor)
+        size = np.linalg.norm(trial, axis=1)
+        sticks = size <= limit
+        direction = trial / np.maximum(size, 1e-300)[:, None]
+        traction = np.where(sticks[:, None], trial, limit[:, None] * direction)
+        secant = np.where(sticks, k_t, k_t * limit / np.maximum(size, 1e-300))
+        slipping = np.where(sticks, 0.0, 1.0)[:, None, None]
+        tangent = secant[:, None, None] * (
+            np.eye(n_dir)[None] - slipping * direction[:, :, None] * direction[:, None, :])
+        force = self.stiffness @ u - self.loads  # K u + penalties + T^T tau - f
+        scale = float(np.abs(self.loads).max(initial=0.0))
+        for g, s, c in zip(gaps, self.gap_sets, closed, strict=True):
+            k = np.where(c, s.stiffness, 0.0)
+            force += s.matrix.T @ (k * g)
+            scale = max(scale, float(np.abs(k * g).max(initial=0.0)))
+        for d, rows in enumerate(friction.slips):
+            force += rows.T @ traction[:, d]
+        out = np.zeros(u.size)
+        out[self.free] = force[self.free]
+        return FrictionIterate(gaps, closed, sticks, traction, tangent,
+                               secant[:, None, None] * np.eye(n_dir)[None], out,
+                               float(np.linalg.norm(out)), scale)  # fmt: skip
+
+    def tangent_matrix(self, now: FrictionIterate, newton: bool) -> sp.csr_matrix:
+        """K, the closed gaps' penalties and the pairs' Newton (or secant) stiffnesses."""
+        matrix, _ = penalty_system(self.stiffness, self.gap_sets, now.closed)
+        pairs = now.tangent if newton else now.secant
+        for d, rows_d in enumerate(self.friction.slips):
+            for e, rows_e in enumerate(self.friction.slips):
+                matrix = matrix + rows_d.T @ sp.diags(pairs[:, d, e]) @ rows_e
+        return sp.csr_matrix(matrix)
+
+
 def solve_frictional_step(
     stiffness: sp.spmatrix,
     gap_sets: Sequence[PenaltyGaps],
@@ -495,10 +552,8 @@ def solve_frictional_step(
     direction instead (a pair on the stick-slip boundary can make Newton cycle). A normal gap
     opens or closes only past ``hysteresis`` (m) from its state. Converged when the sets no
     longer change and the out-of-balance force is below ``rtol`` of the largest of the loads
-    and the penalty forces; the step's slips are then the next anchor. Each solve is CG
-    preconditioned by the last factor (``reuse``, kept across steps), factorising afresh only
-    when CG stalls. (An explicit traction from the previous iterate diverged once most pairs
-    slipped, and the secant alone converged too slowly: docs/barrel.md.)
+    and the penalty forces; the step's slips are then the next anchor. Solves: CG on the last
+    factor (``reuse``), a new factorisation when CG stalls. Other schemes tried: docs/barrel.md.
 
     Raises:
         SimulationError: singular system, or no convergence in ``max_iterations`` solves.
@@ -512,47 +567,8 @@ def solve_frictional_step(
               for a, gaps in zip(initial_active, gap_sets, strict=True)]  # fmt: skip
     k_t = friction.stiffness
     residual = np.inf
-    n_dir = len(friction.slips)
     kept = FactorReuse() if reuse is None else reuse
-
-    def state(u: np.ndarray, before: Sequence[np.ndarray]) -> FrictionIterate:
-        """The contact state, tractions, tangent and out-of-balance force at ``u``, the gaps
-        closed ``before`` opening only past ``hysteresis`` (and the open ones closing only
-        below minus it: a gap at the kink of its penalty would flip for ever)."""
-        gaps = [g.gaps(u) for g in gap_sets]
-        closed = [np.where(b, g < hysteresis, g < -hysteresis) | s.bilateral
-                  for g, b, s in zip(gaps, before, gap_sets, strict=True)]  # fmt: skip
-        limit = friction.mu * np.maximum(gap_sets[friction.normal_set].forces(u), 0.0)
-        trial = k_t[:, None] * (friction.slip(u) - anchor)
-        size = np.linalg.norm(trial, axis=1)
-        sticks = size <= limit
-        direction = trial / np.maximum(size, 1e-300)[:, None]
-        traction = np.where(sticks[:, None], trial, limit[:, None] * direction)
-        secant = np.where(sticks, k_t, k_t * limit / np.maximum(size, 1e-300))
-        slipping = np.where(sticks, 0.0, 1.0)[:, None, None]
-        tangent = secant[:, None, None] * (
-            np.eye(n_dir)[None] - slipping * direction[:, :, None] * direction[:, None, :])
-        secant_only = secant[:, None, None] * np.eye(n_dir)[None]
-        force = stiffness @ u - f  # K u + penalties + T^T tau - f
-        scale = float(np.abs(f).max(initial=0.0))
-        for g, s, c in zip(gaps, gap_sets, closed, strict=True):
-            k = np.where(c, s.stiffness, 0.0)
-            force += s.matrix.T @ (k * g)
-            scale = max(scale, float(np.abs(k * g).max(initial=0.0)))
-        for d, rows in enumerate(friction.slips):
-            force += rows.T @ traction[:, d]
-        out = np.zeros(n_dofs)
-        out[free] = force[free]
-        return FrictionIterate(gaps, closed, sticks, traction, tangent, secant_only, out,
-                               float(np.linalg.norm(out)), scale)  # fmt: skip
-
-    def tangent_matrix(now: FrictionIterate, newton: bool) -> sp.csr_matrix:
-        matrix, _ = penalty_system(stiffness, gap_sets, now.closed)
-        pairs = now.tangent if newton else now.secant
-        for d, rows_d in enumerate(friction.slips):
-            for e, rows_e in enumerate(friction.slips):
-                matrix = matrix + rows_d.T @ sp.diags(pairs[:, d, e]) @ rows_e
-        return sp.csr_matrix(matrix)
+    problem = FrictionProblem(stiffness, list(gap_sets), friction, anchor, f, free, hysteresis)
 
     # the elastic predictor: every pair sticks at its anchor, the active set from the guess
     matrix, rhs = penalty_system(stiffness, gap_sets, active)
@@ -560,16 +576,14 @@ def solve_frictional_step(
         matrix = matrix + rows.T @ sp.diags(k_t) @ rows
         rhs += rows.T @ (k_t * anchor[:, d])
     u = solve_with_kept_factor(sp.csr_matrix(matrix), rhs + f, free, kept, where)
-    now = state(u, active)
+    now = problem.iterate(u, active)
     for iteration in range(1, max_iterations + 1):
-        # Newton's tangent first; if the states still flip after NEWTON_ITERATIONS (a pair
-        # on the stick-slip boundary can make Newton cycle), the secant (a slipping pair's
-        # traction over its slip, in every direction): slower, but it does not cycle
-        newton = iteration <= NEWTON_ITERATIONS
-        du = solve_with_kept_factor(tangent_matrix(now, newton), -now.out, free, kept, where)
+        newton = iteration <= NEWTON_ITERATIONS  # then the secant, which does not cycle
+        du = solve_with_kept_factor(problem.tangent_matrix(now, newton), -now.out, free, kept,
+                                    where)  # fmt: skip
         step = 1.0
         for _ in range(MAX_HALVINGS):  # backtrack while the out-of-balance force grows
-            trial_state = state(u + step * du, now.closed)
+            trial_state = problem.iterate(u + step * du, now.closed)
             if trial_state.norm < now.norm:
                 break
             step *= 0.5
