@@ -161,32 +161,27 @@ def column_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray,
 
 
 @nb.njit(cache=True)
-def scatter_column_forces(slave_nodes: np.ndarray, master_rings: np.ndarray, column: np.ndarray,
-                          ring: np.ndarray, weight_b: np.ndarray, slave_force: np.ndarray,
-                          tilt_force: np.ndarray, penetration: np.ndarray,
-                          forces: np.ndarray) -> int:  # fmt: skip
-    """Add each pair's forces on its slave and the seven master nodes to ``forces`` (n_points,
-    3) in one serial pass; returns the number of slaves in contact."""
-    touching = 0
+def scatter_turning_forces(master_rings: np.ndarray, column: np.ndarray, ring: np.ndarray,
+                           weight_b: np.ndarray, slave_nodes: np.ndarray,
+                           tilt_force: np.ndarray, forces: np.ndarray) -> None:  # fmt: skip
+    """Add the forces of the normal's turning and of the closest point's motion
+    (``tilt_force``, :func:`column_penalty_forces`) to ``forces`` (n_points, 3) in one serial
+    pass; the push itself is added by :func:`scatter_column_shares`."""
     n_around = master_rings.shape[1]
     for n in range(slave_nodes.shape[0]):
-        if penetration[n] <= 0.0:
-            continue
-        touching += 1
         r, j, s = ring[n], column[n], weight_b[n]
         left, right = (j - 1) % n_around, (j + 1) % n_around
         a, b = master_rings[r, j], master_rings[r + 1, j]
         for k in range(3):
-            f, along, around = slave_force[n, k], tilt_force[n, 0, k], tilt_force[n, 1, k]
+            along, around = tilt_force[n, 0, k], tilt_force[n, 1, k]
             on_slave, on_b = tilt_force[n, 2, k], tilt_force[n, 3, k]
-            forces[slave_nodes[n], k] += f + on_slave
-            forces[a, k] += -(1.0 - s) * f - along - on_slave - on_b
-            forces[b, k] += -s * f + along + on_b
+            forces[slave_nodes[n], k] += on_slave
+            forces[a, k] += -along - on_slave - on_b
+            forces[b, k] += along + on_b
             forces[master_rings[r, right], k] += (1.0 - s) * around
             forces[master_rings[r, left], k] -= (1.0 - s) * around
             forces[master_rings[r + 1, right], k] += s * around
             forces[master_rings[r + 1, left], k] -= s * around
-    return touching
 
 
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
@@ -306,9 +301,10 @@ class ColumnContact:
                               self.slave_stiffness, self.master_rings, self.master_thickness,
                               self.column, self.ring, self.gap_offset, self.weight_b,
                               self.slave_force, self.tilt_force, self.penetration)  # fmt: skip
-        touching = scatter_column_forces(self.slave_nodes, self.master_rings, self.column,
-                                         self.ring, self.weight_b, self.slave_force,
-                                         self.tilt_force, self.penetration, forces)  # fmt: skip
+        scatter_column_shares(self.slave_nodes, self.master_rings, self.column, self.ring,
+                              self.weight_b, self.slave_force, forces)  # fmt: skip
+        scatter_turning_forces(self.master_rings, self.column, self.ring, self.weight_b,
+                               self.slave_nodes, self.tilt_force, forces)  # fmt: skip
         if self.friction > 0.0:
             column_friction_forces(points, self.slave_nodes, self.master_rings, self.column,
                                    self.ring, self.weight_b, self.slave_force, self.penetration,
@@ -316,7 +312,7 @@ class ColumnContact:
                                    self.last_pair, self.friction_force)  # fmt: skip
             scatter_column_shares(self.slave_nodes, self.master_rings, self.column, self.ring,
                                   self.weight_b, self.friction_force, forces)  # fmt: skip
-        return int(touching)
+        return int(np.count_nonzero(self.penetration > 0.0))
 
     def start_friction(self, friction: float, points: np.ndarray) -> None:
         """Turn Coulomb friction ``friction`` on from the state ``points`` (no force yet)."""
