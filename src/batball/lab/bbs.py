@@ -34,7 +34,7 @@ from batball.contact.columns import ColumnContact
 from batball.contact.segments import SegmentContact
 from batball.contact.shell_contact import nodal_areas
 from batball.elements.hex8_block import check_precision
-from batball.elements.shell_bt import initial_force_state
+from batball.elements.shell_bt import HOURGLASS_RATIO, initial_force_state
 from batball.elements.shell_bt_section import HG_THICKNESS, LayeredSection, layered_section
 from batball.elements.shell_explicit import (
     cell_stable_steps,
@@ -98,6 +98,8 @@ class BbsSetup:
             default executable) or "double" (docs/precision.md).
         insert_friction: Coulomb coefficient between insert and barrel during the impact (the
             fit is pressed frictionless; 0, the default, as the seed's contact).
+        shell_hourglass_ratio: r of the bat shells' hourglass constants (LS-DYNA's default
+            0.01; the barrel test's squeeze needs 1, docs/barrel.md).
     """
 
     speed: float = 110.0 * MPH
@@ -127,6 +129,7 @@ class BbsSetup:
     contact_reach: float | None = 3.0 * IN
     precision: str = "single"
     insert_friction: float = 0.0
+    shell_hourglass_ratio: float = HOURGLASS_RATIO
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.speed) and 0 < self.speed <= 100.0):
@@ -142,6 +145,7 @@ class BbsSetup:
         check_precision(self.precision)
         if not (np.isfinite(self.insert_friction) and 0.0 <= self.insert_friction <= 10.0):
             raise SpecError("insert_friction", self.insert_friction, "a coefficient 0 .. 10")
+        check_hourglass_ratio("shell_hourglass_ratio", self.shell_hourglass_ratio)
         if not 0.01 * IN <= self.axial_size <= 2.0 * IN:
             raise SpecError("axial_size", f"{self.axial_size / IN:.4g} in", "0.01 in .. 2 in")
         if not 0.0 < self.pivot_band <= 3.0 * IN:
@@ -189,6 +193,13 @@ class BbsModel:
     def z(self) -> float:
         """Pivot-to-impact distance [m]."""
         return self.impact_x - self.pivot_x
+
+
+def check_hourglass_ratio(field: str, ratio: float) -> None:
+    """The shells' hourglass ratio r must lie in (0, 1]: 1 is the largest tried; 10 made the
+    barrel test's squeeze unstable at the shells' step (docs/barrel.md)."""
+    if not (np.isfinite(ratio) and 0.0 < ratio <= 1.0):
+        raise SpecError(field, ratio, "a ratio 0 < r <= 1")
 
 
 def bat_part(spec: BatSpec, setup: BbsSetup, ball_step: float = np.inf
@@ -395,7 +406,8 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
     controls = CoupledControls(end_time=setup.end_time, time_step_scale=setup.time_step_scale,
                                search_interval=setup.search_interval,
                                separation_time=setup.separation_time,
-                               precision=setup.precision)  # fmt: skip
+                               precision=setup.precision,
+                               shell_hourglass_ratio=setup.shell_hourglass_ratio)  # fmt: skip
     solver = CoupledSolver(model.coupled, controls)
     inserts = model.coupled.contacts[model.coupled.ball_contacts :]
     ratio, pressure = float("nan"), float("nan")

@@ -104,6 +104,36 @@ class BatPart:
     fixed: bool = False
 
 
+class ShellForces:
+    """The bat shells' nodal forces (minus the internal forces), threaded when numba has more
+    than one thread: the Belytschko-Tsay kernel of :mod:`batball.elements.shell_bt` with the
+    rate-form stresses of ``state`` updated in place (one call per cycle) and the hourglass
+    ratio r of its constants (LS-DYNA's default, 0.01, unless given)."""
+
+    def __init__(self, bat: BatPart, state: ShellForceState, *,
+                 hourglass_ratio: float = HOURGLASS_RATIO) -> None:  # fmt: skip
+        self.bat, self.state, self.hourglass_ratio = bat, state, hourglass_ratio
+        n_bat = bat.mass.shape[0]
+        n_slots = max(1, min(nb.get_num_threads(), len(state.block_start) - 1))
+        self.slots = np.zeros((n_slots, n_bat, 6))  # bt_slot_force_kernel's nodal arrays
+        self.slot_nodes = slot_node_ranges(bat.cells, state.block_start, n_slots)
+
+    def __call__(self, points: np.ndarray, velocity: np.ndarray, dt: float,
+                 out: np.ndarray) -> None:  # fmt: skip
+        """Forces on the nodes, (n_bat, 6), into ``out`` from x^n (n_bat, 3), v^(n-1/2) (n_bat,
+        6) and the last step ``dt`` [s]."""
+        s, sec = self.state, self.bat.section
+        args = (points, self.bat.cells, velocity, dt, sec.cell_laminate, sec.layer_stiffness,
+                sec.layer_z, sec.layer_thickness, sec.shear, sec.hourglass_moduli,
+                self.hourglass_ratio, s.block_start, s.history)  # fmt: skip
+        if self.slots.shape[0] == 1:  # assembled in the kernel: one serial pass
+            bt_nodal_force_kernel(*args, out)
+            out *= -1.0  # f_int -> force on the nodes
+        else:  # one nodal array per thread, summed (and negated) in parallel
+            bt_slot_force_kernel(*args, self.slots, self.slot_nodes)
+            sum_slots(self.slots, self.slot_nodes, -1.0, out)
+
+
 @dataclass(frozen=True)
 class CoupledModel:
     """Ball, bat, their contacts and the initial state (static during a run).
@@ -133,8 +163,9 @@ class CoupledModel:
 @dataclass(frozen=True)
 class CoupledControls:
     """Run controls: end time [s], TSSFAC, search interval [cycles], separation time [s] (stop
-    once the ball-bat contact has been open this long), the energy run-away limit, and the
-    precision of the ball's hex kernel ("double" or "single"; ``ExplicitControls.precision``)."""
+    once the ball-bat contact has been open this long), the energy run-away limit, the
+    precision of the ball's hex kernel ("double" or "single"; ``ExplicitControls.precision``)
+    and the hourglass ratio r of the bat's shells (LS-DYNA's default 0.01)."""
 
     end_time: float = 2e-3
     time_step_scale: float = 0.9
@@ -142,6 +173,7 @@ class CoupledControls:
     separation_time: float | None = 0.2e-3
     max_energy_error: float = 0.2
     precision: str = "double"
+    shell_hourglass_ratio: float = HOURGLASS_RATIO
 
     def __post_init__(self) -> None:
         check_precision(self.precision)
@@ -408,10 +440,8 @@ class CoupledSolver:
         self.shell_state = model.shell_state
         self.ball_forces = np.zeros_like(self.ball_velocity)
         self.bat_forces = np.zeros((n_bat, 6))
-        n_slots = max(1, min(nb.get_num_threads(), len(self.shell_state.block_start) - 1))
-        self.bat_slots = np.zeros((n_slots, n_bat, 6))  # bt_slot_force_kernel's nodal arrays
-        self.bat_slot_nodes = slot_node_ranges(model.bat.cells, self.shell_state.block_start,
-                                               n_slots)  # fmt: skip
+        self.bat_shells = ShellForces(model.bat, self.shell_state,
+                                      hourglass_ratio=controls.shell_hourglass_ratio)  # fmt: skip
         self.contact_forces = np.zeros_like(self.points)
         self.ball_moving = np.ones(self.ball_points.shape[0], dtype=np.bool_)
         self.bat_moving = np.ones(n_bat, dtype=np.bool_)
@@ -452,17 +482,7 @@ class CoupledSolver:
         if m.bat.rigid:
             self.bat_forces[:] = 0.0
         else:
-            s, sec = self.shell_state, m.bat.section
-            args = (self.bat_points, m.bat.cells, self.bat_velocity, self.dt, sec.cell_laminate,
-                    sec.layer_stiffness, sec.layer_z, sec.layer_thickness, sec.shear,
-                    sec.hourglass_moduli, HOURGLASS_RATIO, s.block_start,
-                    s.history)  # fmt: skip
-            if self.bat_slots.shape[0] == 1:  # assembled in the kernel: one serial pass
-                bt_nodal_force_kernel(*args, self.bat_forces)
-                self.bat_forces *= -1.0  # f_int -> force on the nodes
-            else:  # one nodal array per thread, summed (and negated) in parallel
-                bt_slot_force_kernel(*args, self.bat_slots, self.bat_slot_nodes)
-                sum_slots(self.bat_slots, self.bat_slot_nodes, -1.0, self.bat_forces)
+            self.bat_shells(self.bat_points, self.bat_velocity, self.dt, self.bat_forces)
         self.timed("bat_forces", clock)
         ball_dt = self.controls.time_step_scale * float(cell_dt.min())
         return min(ball_dt, m.bat.stable_step)

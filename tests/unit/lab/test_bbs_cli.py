@@ -72,3 +72,9 @@ def test_rigid_bat_summary_is_valid_json_without_a_prestress(tmp_path: Path, cap
 def test_setup_rejects_a_bad_mass_scaling(value: object) -> None:
     with pytest.raises(SpecError, match="mass_scaling"):
         BbsSetup(mass_scaling=value)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("ratio", [0.0, -0.01, 10.0, float("nan")])
+def test_setup_rejects_a_bad_shell_hourglass_ratio(ratio: float) -> None:
+    with pytest.raises(SpecError, match="shell_hourglass_ratio"):
+        BbsSetup(shell_hourglass_ratio=ratio)
