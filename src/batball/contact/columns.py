@@ -189,15 +189,24 @@ def column_friction_forces(points: np.ndarray, slave_nodes: np.ndarray, master_r
                            column: np.ndarray, ring: np.ndarray, weight_b: np.ndarray,
                            slave_force: np.ndarray, penetration: np.ndarray, mu: float,
                            stiffness: np.ndarray, last_relative: np.ndarray,
-                           last_pair: np.ndarray, friction_force: np.ndarray) -> None:  # fmt: skip
+                           last_pair: np.ndarray, friction_force: np.ndarray,
+                           rotation_step: np.ndarray, slave_thickness: np.ndarray,
+                           master_thickness: np.ndarray, arms: np.ndarray) -> None:  # fmt: skip
     """Coulomb friction on each touching pair (:class:`ColumnContact`), per slave row: the
     friction force on the slave, (n_slaves, 3) [N], grows by ``stiffness`` times the tangential
-    part of the change of x_m - x since the last call (the old force turned into the new
-    tangent plane), capped at ``mu`` times the normal force. The change is measured at the
-    column's material point of the last call (``last_pair``: its ring and s, (n_slaves, 2)),
-    not at the closest point, which follows the slave along the column; ``last_relative``
-    (n_slaves, 3) [m] and ``last_pair`` then take the new closest point. A free pair carries
-    none."""
+    part of the slip of the two contact surfaces since the last call (the old force turned into
+    the new tangent plane), capped at ``mu`` times the normal force. The slip is the change of
+    x_m - x at the column's material point of the last call (``last_pair``: its ring and s,
+    (n_slaves, 2)), not at the closest point, which follows the slave along the column, plus
+    the nodes' rotations over the step (``rotation_step``, (n_points, 3) [rad]) times the
+    faces' offsets from the mid-surfaces: -(t_m dtheta_m + t_s dtheta_s) x m, with m the unit
+    normal towards the master and t_s, t_m the contact thicknesses scaled to share the
+    mid-surfaces' distance (x_m - x) . m, the penalty's overlap split in the walls' proportion
+    (a wall bending under the other slides its face over it even where the mid-surfaces keep
+    step; a rigid turn of both slides nothing). ``last_relative``
+    (n_slaves, 3) [m] and ``last_pair`` then take the new closest point; ``arms`` (n_slaves, 2)
+    receives t_s and t_m (the friction's lever arms about the slave and the column point). A
+    free pair carries none."""
     for n in nb.prange(slave_nodes.shape[0]):
         a = master_rings[ring[n], column[n]]
         b = master_rings[ring[n] + 1, column[n]]
@@ -221,9 +230,20 @@ def column_friction_forces(points: np.ndarray, slave_nodes: np.ndarray, master_r
         m0 = -slave_force[n, 0] / normal_force  # towards the master
         m1 = -slave_force[n, 1] / normal_force
         m2 = -slave_force[n, 2] / normal_force
-        d0 = then[0] - last_relative[n, 0]
-        d1 = then[1] - last_relative[n, 1]
-        d2 = then[2] - last_relative[n, 2]
+        # the faces meet inside the penalty's overlap: the arms share the mid-surfaces'
+        # distance along m in the walls' proportion (a rigid turn then slides nothing)
+        t_s = slave_thickness[n]
+        t_m = (1.0 - s) * master_thickness[a] + s * master_thickness[b]
+        share = (rel[0] * m0 + rel[1] * m1 + rel[2] * m2) / (t_s + t_m)
+        t_s, t_m = share * t_s, share * t_m
+        arms[n, 0], arms[n, 1] = t_s, t_m
+        w = np.empty(3)  # t_m dtheta_m + t_s dtheta_s
+        for k in range(3):
+            w[k] = (t_m * ((1.0 - s) * rotation_step[a, k] + s * rotation_step[b, k])
+                    + t_s * rotation_step[slave_nodes[n], k])  # fmt: skip
+        d0 = then[0] - last_relative[n, 0] - (w[1] * m2 - w[2] * m1)
+        d1 = then[1] - last_relative[n, 1] - (w[2] * m0 - w[0] * m2)
+        d2 = then[2] - last_relative[n, 2] - (w[0] * m1 - w[1] * m0)
         along = d0 * m0 + d1 * m1 + d2 * m2
         old = friction_force[n, 0] * m0 + friction_force[n, 1] * m1 + friction_force[n, 2] * m2
         f0 = friction_force[n, 0] - old * m0 + stiffness[n] * (d0 - along * m0)
@@ -235,6 +255,29 @@ def column_friction_forces(points: np.ndarray, slave_nodes: np.ndarray, master_r
         friction_force[n, 2] = f2 * scale
         for k in range(3):
             last_relative[n, k] = rel[k]
+
+
+@nb.njit(cache=True)
+def scatter_friction_moments(slave_nodes: np.ndarray, master_rings: np.ndarray,
+                             column: np.ndarray, ring: np.ndarray, weight_b: np.ndarray,
+                             slave_force: np.ndarray, friction_force: np.ndarray,
+                             arms: np.ndarray, moments: np.ndarray) -> None:  # fmt: skip
+    """Add the friction's moments about the nodes, (n_points, 3) [N m]: the force f on the
+    slave acts at its face t_s m off the mid-surface, (t_s m) x f; its opposite acts on the
+    master's face -t_m m off the column point, (t_m m) x f shared (1 - s, s) on a and b."""
+    for n in range(slave_nodes.shape[0]):
+        size = np.sqrt(slave_force[n, 0] ** 2 + slave_force[n, 1] ** 2 + slave_force[n, 2] ** 2)
+        if size == 0.0:
+            continue
+        m = -slave_force[n] / size
+        f = friction_force[n]
+        torque = np.array([m[1] * f[2] - m[2] * f[1], m[2] * f[0] - m[0] * f[2],
+                           m[0] * f[1] - m[1] * f[0]])  # fmt: skip
+        a, b = master_rings[ring[n], column[n]], master_rings[ring[n] + 1, column[n]]
+        for k in range(3):
+            moments[slave_nodes[n], k] += arms[n, 0] * torque[k]
+            moments[a, k] += (1.0 - weight_b[n]) * arms[n, 1] * torque[k]
+            moments[b, k] += weight_b[n] * arms[n, 1] * torque[k]
 
 
 @nb.njit(cache=True)
@@ -264,9 +307,14 @@ class ColumnContact:
         gap_offset: (n_slaves,) initial overlap ignored [m].
         points: (n_points, 3) the undeformed nodes [m], which pair each slave with its column.
         friction: Coulomb coefficient (0: frictionless); the stick spring is each pair's
-            normal penalty. Friction is not conservative and its force, acting at the slave and
-            at the column point (a wall's distance apart), has a small moment; it is off unless
-            set (:meth:`start_friction`).
+            normal penalty. Friction is not conservative; it is off unless set
+            (:meth:`start_friction`). It acts at the two contact faces: set ``rotation_step``
+            (n_points, 3), the nodes' rotations over the last step [rad], before each
+            :meth:`add_forces` so that the faces' slip includes the walls' rotations, and add
+            ``moments`` (n_points, 3) [N m], the friction's moments about the nodes that
+            :meth:`add_forces` leaves there, to the nodes' rotational forces. Without
+            rotations the slip is the mid-surfaces' (the friction then misses the faces'
+            sliding in bending).
     """
 
     name: str
@@ -291,6 +339,11 @@ class ColumnContact:
         self.friction_force = np.zeros((n, 3))
         self.last_relative = np.zeros((n, 3))
         self.last_pair = np.column_stack([self.ring, self.weight_b]).astype(float)
+        self.arms = np.zeros((n, 2))
+        n_points = points.shape[0]
+        self.no_rotation = np.zeros((n_points, 3))
+        self.rotation_step: np.ndarray | None = None
+        self.moments = np.zeros((n_points, 3))
 
     def search(self, points: np.ndarray) -> None:
         """Nothing to search: each slave walks along its column in :meth:`add_forces`."""
@@ -306,12 +359,19 @@ class ColumnContact:
         scatter_turning_forces(self.master_rings, self.column, self.ring, self.weight_b,
                                self.slave_nodes, self.tilt_force, forces)  # fmt: skip
         if self.friction > 0.0:
+            spin = self.rotation_step if self.rotation_step is not None else self.no_rotation
             column_friction_forces(points, self.slave_nodes, self.master_rings, self.column,
                                    self.ring, self.weight_b, self.slave_force, self.penetration,
                                    self.friction, self.slave_stiffness, self.last_relative,
-                                   self.last_pair, self.friction_force)  # fmt: skip
+                                   self.last_pair, self.friction_force, spin,
+                                   self.slave_thickness, self.master_thickness,
+                                   self.arms)  # fmt: skip
             scatter_column_shares(self.slave_nodes, self.master_rings, self.column, self.ring,
                                   self.weight_b, self.friction_force, forces)  # fmt: skip
+            self.moments[:] = 0.0
+            scatter_friction_moments(self.slave_nodes, self.master_rings, self.column,
+                                     self.ring, self.weight_b, self.slave_force,
+                                     self.friction_force, self.arms, self.moments)  # fmt: skip
         return int(np.count_nonzero(self.penetration > 0.0))
 
     def start_friction(self, friction: float, points: np.ndarray) -> None:

@@ -443,6 +443,10 @@ class CoupledSolver:
         self.bat_shells = ShellForces(model.bat, self.shell_state,
                                       hourglass_ratio=controls.shell_hourglass_ratio)  # fmt: skip
         self.contact_forces = np.zeros_like(self.points)
+        self.spin = np.zeros_like(self.points)  # rotations over the last step (friction)
+        for pair in model.contacts:
+            if isinstance(pair, ColumnContact):
+                pair.rotation_step = self.spin
         self.ball_moving = np.ones(self.ball_points.shape[0], dtype=np.bool_)
         self.bat_moving = np.ones(n_bat, dtype=np.bool_)
         self.bat_moving[model.bat.band] = False
@@ -539,7 +543,12 @@ class CoupledSolver:
                 pair.search(self.points)
             clock = self.timed("contact_search", clock)
         self.contact_forces[:] = 0.0
+        n_bat = self.model.n_bat
+        self.spin[:n_bat] = self.dt * self.bat_velocity[:, 3:]
         counts = [pair.add_forces(self.points, self.contact_forces) for pair in self.model.contacts]
+        for pair in self.model.contacts:  # frictional faces' moments: the walls' rotations
+            if isinstance(pair, ColumnContact) and pair.friction > 0.0:
+                self.bat_forces[:, 3:] += pair.moments[:n_bat]
         self.timed("contact_forces", clock)
         k = self.model.ball_contacts
         return sum(counts[:k]), sum(counts[k:])

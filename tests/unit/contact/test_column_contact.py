@@ -132,3 +132,55 @@ def test_friction_sticks_as_a_spring_then_slides_at_mu_times_the_normal_force() 
         assert pair.friction_force[0, 0] == pytest.approx(expected, rel=1e-6)
         np.testing.assert_allclose(pair.friction_force[0, 1:], 0.0, atol=1e-9 * normal)
         np.testing.assert_allclose(forces.sum(axis=0), 0.0, atol=1e-9 * normal)
+
+
+def pressed_pair(mu: float) -> tuple[ColumnContact, np.ndarray, np.ndarray, float]:
+    """A slave pressed on a straight tube at phi = 60 deg, friction on: pair, points, the
+    slave's outward unit normal, the normal force [N]."""
+    phi = 2 * np.pi * 2 / N_AROUND
+    points, rings, slaves = tube_and_slaves(np.full(RING_X.size, 0.025), np.array([0.03]),
+                                            np.array([0.0205]), np.array([phi]))  # fmt: skip
+    pair = contact(points, rings, slaves)
+    pair.start_friction(mu, points)
+    normal = STIFFNESS * (SLAVE_T + MASTER_T - (0.025 - 0.0205))
+    return pair, points, np.array([0.0, np.cos(phi), np.sin(phi)]), normal
+
+
+def test_a_wall_rotation_slides_the_faces_by_the_thickness_times_the_angle() -> None:
+    # Both walls turn by dtheta about the hoop direction e_h = x x e_r with their mid-surfaces
+    # still: e_h x e_r = -x, so the slave's face (an arm a_s outside it, towards the master)
+    # moves by -a_s dtheta along x and the master's (a_m inside it) by +a_m dtheta: the faces
+    # slide by (a_s + a_m) dtheta, the mid-surfaces' distance d = 4.5 mm times dtheta (the
+    # penalty's 0.5-mm overlap is shared, a = t d / (t_s + t_m)); friction pulls the slave
+    # along with k times the slip, and each face's force has a moment about its node.
+    pair, points, radial, normal = pressed_pair(0.2)
+    hoop = np.cross([1.0, 0.0, 0.0], radial)
+    dtheta = 1e-6
+    spin = np.zeros_like(points)
+    spin[:] = dtheta * hoop
+    pair.rotation_step = spin
+    forces = np.zeros_like(points)
+    pair.add_forces(points, forces)
+    distance = 0.025 - 0.0205
+    assert pair.friction_force[0, 0] == pytest.approx(STIFFNESS * distance * dtheta, rel=1e-6)
+    np.testing.assert_allclose(pair.friction_force[0, 1:], 0.0, atol=1e-9 * normal)
+    # moments: (a_s m) x f on the slave, m = e_r towards the master; the master's sum to
+    # (a_m m) x f
+    f, arm = pair.friction_force[0], distance / (SLAVE_T + MASTER_T)
+    slave_moment = arm * SLAVE_T * np.cross(radial, f)
+    np.testing.assert_allclose(pair.moments[pair.slave_nodes[0]], slave_moment, rtol=1e-9)
+    master_total = pair.moments.sum(axis=0) - pair.moments[pair.slave_nodes[0]]
+    np.testing.assert_allclose(master_total, arm * MASTER_T * np.cross(radial, f), rtol=1e-9)
+
+
+def test_a_rigid_turn_of_both_walls_does_not_slide_the_faces() -> None:
+    # nodes and their rotations turned together about the bat axis: no slip, no friction
+    pair, points, _, normal = pressed_pair(0.2)
+    angle = 1e-6
+    turn = np.array([[1.0, 0.0, 0.0], [0.0, np.cos(angle), -np.sin(angle)],
+                     [0.0, np.sin(angle), np.cos(angle)]])  # fmt: skip
+    spin = np.zeros_like(points)
+    spin[:, 0] = angle
+    pair.rotation_step = spin
+    pair.add_forces(points @ turn.T, np.zeros_like(points))
+    np.testing.assert_allclose(pair.friction_force, 0.0, atol=1e-9 * normal)
