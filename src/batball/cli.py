@@ -545,6 +545,14 @@ def add_barrel_parser(sub: Any) -> None:
         help="Coulomb coefficient between insert and barrel during the squeeze (default 0, "
         "as the seed; the fit itself stays frictionless; docs/barrel.md)",
     )
+    p.add_argument(
+        "--solver",
+        choices=("static", "explicit"),
+        default="static",
+        help="static: linear MITC4 shells, penalty contact, small displacements (default); "
+        "explicit: the BBS test's Belytschko-Tsay shells relaxed at each travel, geometrically "
+        "nonlinear (docs/barrel.md, 'Geometric nonlinearity')",
+    )
     add_store_options(p)
     p.set_defaults(handler=run_barrel_command)
 
@@ -559,11 +567,23 @@ def run_barrel_command(args: argparse.Namespace) -> int:
         raise SpecError("ramp-steps", args.ramp_steps, "an integer >= 1")
     spec = load_bat_spec(args.bat)
     options = bat_mesh_options(args)
-    summary, _ = run_barrel_test(
-        spec, runs_dir=args.runs_dir, reuse=not args.no_reuse, ramp_steps=args.ramp_steps,
-        circumferential=options["circumferential"], axial_size=options["axial_size"],
-        options=BarrelTestOptions(friction=args.friction),
-    )  # fmt: skip
+    test = BarrelTestOptions(friction=args.friction)
+    if args.solver == "explicit":
+        from batball.lab.barrel_explicit import ExplicitBarrelOptions
+        from batball.lab.barrel_run import run_explicit_barrel_test
+
+        explicit = ExplicitBarrelOptions(circumferential=options["circumferential"],
+                                         axial_size=options["axial_size"])  # fmt: skip
+        summary, _ = run_explicit_barrel_test(
+            spec, runs_dir=args.runs_dir, options=test, explicit=explicit,
+            reuse=not args.no_reuse,
+        )  # fmt: skip
+    else:
+        summary, _ = run_barrel_test(
+            spec, runs_dir=args.runs_dir, reuse=not args.no_reuse, ramp_steps=args.ramp_steps,
+            circumferential=options["circumferential"], axial_size=options["axial_size"],
+            options=test,
+        )  # fmt: skip
     print(json.dumps(summary, indent=2) if args.json else describe_barrel(summary))
     return 0
 
@@ -577,6 +597,7 @@ def describe_barrel(s: dict[str, Any]) -> str:
         f"seed FE {seed['preload_lbf']:.0f})",
         f"  final load {s['final_load_lbf']:7.1f} lbf  (experiment {exp['final_load_lbf']:.0f}, "
         f"seed FE {seed['final_load_lbf']:.0f})",
+        f"  solver: {s.get('solver', 'static: linear MITC4 shells')}",
         f"  insert friction during the squeeze: mu = {s.get('insert_friction', 0.0):g}",
         f"  interference pressure {s['interference_pressure_psi']:.1f} psi (thin rings "
         f"{s['interference_pressure_thin_ring_psi']:.1f} psi)",

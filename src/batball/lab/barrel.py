@@ -316,15 +316,14 @@ def platen_gaps(model: BarrelModel, options: BarrelTestOptions, orientation_deg:
     return gap_sets
 
 
-def compression_supports(model: BarrelModel, options: BarrelTestOptions,
-                         orientation_deg: float) -> tuple[np.ndarray, PenaltyGaps]:  # fmt: skip
-    """The seed's supports (Figures 11-12): axial dofs of the barrel and insert rings nearest the
-    platen centre (fixed dofs), and bilateral sideways springs on their four load-axis nodes."""
-    load, sideways = load_axes(orientation_deg)
-    centre_x = model.spec.length - options.distance_from_cap
-    points = model.mesh.points
+def support_nodes(points: np.ndarray, outer: np.ndarray, insert: np.ndarray, centre_x: float,
+                  load: np.ndarray, orientation_deg: float,
+                  ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """The seed's supports (Figures 11-12): the barrel's (``outer`` nodes) and the insert's ring
+    nearest the platen centre ``centre_x`` (held axially), and their four nodes on the load axis
+    ``load`` (held sideways); (ring nodes, load-axis nodes)."""
     rings = []
-    for nodes in (model.outer_rings.ravel(), model.insert_nodes):
+    for nodes in (outer, insert):
         ring_x = points[nodes, 0]
         nearest = np.abs(ring_x - ring_x[np.argmin(np.abs(ring_x - centre_x))]) < 1e-9
         rings.append(nodes[nearest])
@@ -333,6 +332,18 @@ def compression_supports(model: BarrelModel, options: BarrelTestOptions,
     on_axis = ring_nodes[np.abs(np.abs(direction) - 1.0) < 1e-9]
     if on_axis.size != 4:
         raise SpecError("orientation", orientation_deg, "an angle at which nodes lie on the axis")
+    return ring_nodes, on_axis
+
+
+def compression_supports(model: BarrelModel, options: BarrelTestOptions,
+                         orientation_deg: float) -> tuple[np.ndarray, PenaltyGaps]:  # fmt: skip
+    """The seed's supports (Figures 11-12): axial dofs of the barrel and insert rings nearest the
+    platen centre (fixed dofs), and bilateral sideways springs on their four load-axis nodes."""
+    load, sideways = load_axes(orientation_deg)
+    points = model.mesh.points
+    ring_nodes, on_axis = support_nodes(points, model.outer_rings.ravel(), model.insert_nodes,
+                                        model.spec.length - options.distance_from_cap, load,
+                                        orientation_deg)  # fmt: skip
     springs = PenaltyGaps(
         gap_matrix(on_axis[:, None], np.ones((4, 1)), np.tile(sideways, (4, 1)), len(points)),
         np.zeros(4), np.full(4, model.interference.stiffness.max()), bilateral=True,

@@ -32,6 +32,7 @@ from batball.lab.barrel import (
     BarrelModel,
     BarrelResult,
     BarrelTestOptions,
+    CompressionCurve,
     Prestress,
     build_barrel_model,
     compute_prestress,
@@ -44,6 +45,7 @@ from batball.lab.barrel import (
     thin_ring_interference_pressure,
     von_mises,
 )
+from batball.lab.barrel_explicit import ExplicitBarrelOptions, run_explicit_compression
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
 
@@ -170,14 +172,20 @@ def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any
 
 def write_curve(folder: Path, result: BarrelResult) -> None:
     """``force_travel.csv`` and ``.png``: the first orientation's force-travel curve."""
-    curve = result.curves[0]
     at_fit = result.prestress.contact_force.sum() / 2 / LBF  # zero travel: the fit alone
+    write_curve_of(folder, result.curves[0], at_fit, result.options)
+
+
+def write_curve_of(folder: Path, curve: CompressionCurve, at_fit: float,
+                   options: BarrelTestOptions) -> None:  # fmt: skip
+    """``force_travel.csv`` and ``.png`` of ``curve``, the insert's halves carrying ``at_fit``
+    lbf each at zero travel."""
     columns = {"travel_in": np.r_[0.0, curve.travel / IN],
                "force_lbf": np.r_[0.0, curve.force / LBF],
                "insert_top_lbf": np.r_[at_fit, curve.insert_top / LBF],
                "insert_bottom_lbf": np.r_[at_fit, curve.insert_bottom / LBF]}  # fmt: skip
     write_csv_atomic(folder / "force_travel.csv", columns)
-    plot_curve(folder / "force_travel.png", columns, result.options)
+    plot_curve(folder / "force_travel.png", columns, options)
 
 
 def plot_curve(path: Path, columns: dict[str, np.ndarray], options: BarrelTestOptions) -> None:
@@ -267,5 +275,67 @@ def run_barrel_test(
                    prestress_reused=reused)  # fmt: skip
     write_curve(folder, result)
     plot_prestress(folder / "prestress.png", model, prestress)
+    write_summary(folder, summary)
+    return summary, folder
+
+
+def run_explicit_barrel_test(spec: BatSpec, *, runs_dir: Path, options: BarrelTestOptions,
+                             explicit: ExplicitBarrelOptions, reuse: bool = True,
+                             ) -> tuple[dict[str, Any], Path]:  # fmt: skip
+    """The test on the explicit, geometrically nonlinear shells
+    (:mod:`batball.lab.barrel_explicit`): fit, squeeze at every orientation; the summary and the
+    run folder ``barrel-explicit-<hash>`` (``summary.json``, ``force_travel.csv`` / ``.png``).
+    The fit is relaxed again on every run (seconds), not stored."""
+    inputs = {"bat": bat_spec_to_toml_dict(spec), "protocol": repr(options),
+              "explicit": repr(explicit), "batball": __version__}  # fmt: skip
+    folder = run_folder(runs_dir, "barrel-explicit", inputs)
+    cached = load_cached_summary(folder) if reuse else None
+    if cached is not None:
+        return cached, folder
+    start = time.perf_counter()
+    state, runs = run_explicit_compression(spec, options, explicit)
+    curves = [r.curve for r in runs]
+    end = options.preload_travel + options.final_travel
+    preloads = np.array([c.force_at(options.preload_travel) for c in curves])
+    finals = np.array([c.force_at(end) for c in curves]) - preloads
+    first = curves[0]
+    levels = [np.argmin(np.abs(first.travel - t)) for t in (options.preload_travel, end)]
+    summary = {
+        "test": "barrel",
+        "solver": "explicit: Belytschko-Tsay shells, dynamic relaxation, geometrically nonlinear",
+        "bat": spec.name,
+        "preload_lbf": float(preloads.mean() / LBF),
+        "final_load_lbf": float(finals.mean() / LBF),
+        "orientations_deg": list(options.orientations_deg),
+        "preload_by_orientation_lbf": (preloads / LBF).tolist(),
+        "final_load_by_orientation_lbf": (finals / LBF).tolist(),
+        "seed_table2": SEED_TABLE2,
+        "interference_in": spec.insert.interference / IN if spec.insert else 0.0,
+        "interference_pressure_psi": state.fit_pressure / PSI,
+        "interference_pressure_thin_ring_psi": thin_ring_interference_pressure(spec) / PSI,
+        "prestress_kinetic_ratio": state.prestress_kinetic_ratio,
+        "insert_contact_lbf": {
+            "preload": {"top": first.insert_top[levels[0]] / LBF,
+                        "bottom": first.insert_bottom[levels[0]] / LBF},
+            "final": {"top": first.insert_top[levels[1]] / LBF,
+                      "bottom": first.insert_bottom[levels[1]] / LBF},
+            "orientation_deg": first.orientation_deg,
+        },  # fmt: skip
+        "settling": {
+            "largest_kinetic_ratio": float(max(r.kinetic_ratio.max() for r in runs)),
+            "largest_force_drift": float(max(np.abs(r.drift).max() for r in runs)),
+            "largest_travel_error_in": float(max(np.abs(r.travel_error).max() for r in runs) / IN),
+        },
+        "insert_friction": options.friction,
+        "platen_diameter_in": options.platen_diameter / IN,
+        "platen_from_cap_in": options.distance_from_cap / IN,
+        "cycles": int(sum(r.cycles for r in runs)),
+        "time_step_s": state.bat.stable_step,
+        "n_shells": int(state.bat.cells.shape[0]),
+        "n_points": int(state.points.shape[0]),
+        "wall_seconds": time.perf_counter() - start,
+    }
+    write_curve_of(folder, first, state.fit_pressure_force / 2 / LBF, options)
+    summary["run_folder"] = folder.as_posix()
     write_summary(folder, summary)
     return summary, folder

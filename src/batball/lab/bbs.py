@@ -440,12 +440,18 @@ def insert_pressure(model: BbsModel, points: np.ndarray) -> float:
     """Mean contact pressure between insert and barrel [Pa]: the insert contact's total normal
     force over the insert's outer area (as lab/barrel's mean interference pressure)."""
     pair = model.coupled.contacts[model.coupled.ball_contacts]
+    mesh = model.bat_mesh
+    return fit_pressure(pair, points, mesh.points, mesh.cells[mesh.cell_sets["insert"]])
+
+
+def fit_pressure(pair: SegmentContact | ColumnContact, points: np.ndarray, reference: np.ndarray,
+                 insert_cells: np.ndarray) -> float:  # fmt: skip
+    """The insert pair's total normal force at ``points`` over the insert's outer area (from
+    the undeformed ``reference`` nodes and the insert's (n, 4) cells) [Pa]."""
     pair.search(points)
     pair.add_forces(points, np.zeros_like(points))
-    mesh = model.bat_mesh
-    insert_cells = mesh.cell_sets["insert"]
-    radius = np.hypot(mesh.points[pair.slave_nodes, 1], mesh.points[pair.slave_nodes, 2])
-    areas = nodal_areas(mesh.points, mesh.cells[insert_cells])[pair.slave_nodes]
+    radius = np.hypot(reference[pair.slave_nodes, 1], reference[pair.slave_nodes, 2])
+    areas = nodal_areas(reference, insert_cells)[pair.slave_nodes]
     outer_area = np.sum(areas * (radius + pair.slave_thickness) / radius)
     return float(np.linalg.norm(pair.slave_force, axis=1).sum() / outer_area)
 

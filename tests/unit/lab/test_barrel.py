@@ -179,3 +179,23 @@ def test_cli_runs_the_squeeze_with_friction_and_refuses_a_negative_one(
     assert rubbing["preload_lbf"] > frictionless["preload_lbf"]  # sticking stiffens the start
     assert main([*base, "--friction", "-0.1"]) == 2
     assert "friction" in capsys.readouterr().err
+
+
+def test_cli_runs_the_explicit_squeeze_into_its_own_folder(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    base = ["barrel", "--runs-dir", str(tmp_path), "--circumferential", "8",
+            "--axial-size", "1 in", "--solver", "explicit"]  # fmt: skip
+    assert main([*base, "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["solver"].startswith("explicit")
+    assert summary.keys() >= {"preload_lbf", "final_load_lbf", "interference_pressure_psi",
+                              "wall_seconds", "settling", "cycles"}  # fmt: skip
+    assert len(summary["preload_by_orientation_lbf"]) == 4
+    assert summary["preload_lbf"] > 0 and summary["final_load_lbf"] > 0
+    folder = Path(summary["run_folder"])
+    assert folder.name.startswith("barrel-explicit-")
+    for name in ("summary.json", "force_travel.csv", "force_travel.png"):
+        assert (folder / name).is_file()
+    assert main(base) == 0  # the stored run, told in words with the solver named
+    assert "solver: explicit" in capsys.readouterr().out
