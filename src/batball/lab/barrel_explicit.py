@@ -39,6 +39,7 @@ moved slowly and each travel level held until the bat stops moving.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numba as nb
@@ -378,19 +379,31 @@ def squeeze(state: ExplicitBat, test: BarrelTestOptions, options: ExplicitBarrel
     return ExplicitCurve(record, ratio, drift, error, cycles, time.perf_counter() - clock)
 
 
-def run_explicit_compression(spec: BatSpec, test: BarrelTestOptions,
-                             options: ExplicitBarrelOptions) -> tuple[ExplicitBat, list[ExplicitCurve]]:  # noqa: E501 fmt: skip
-    """Fit the insert, then squeeze at every orientation of ``test`` from the fitted state."""
+def run_explicit_compression(
+    spec: BatSpec, test: BarrelTestOptions, options: ExplicitBarrelOptions, *,
+    finished: dict[float, ExplicitCurve] | None = None,
+    record: Callable[[ExplicitCurve], None] | None = None,
+) -> tuple[ExplicitBat, list[ExplicitCurve]]:
+    """Fit the insert, then squeeze at every orientation of ``test`` from the fitted state.
+
+    ``finished`` holds orientations already run (by angle, deg; an interrupted run resumes
+    with them), ``record`` is called with each new one as soon as it is done."""
+    finished = {} if finished is None else finished
     state = build_explicit_bat(spec, options)
     press_fit(state, options)
     fitted = (state.points.copy(), state.shells.state.history.copy(), state.fit.gap_offset.copy())
     curves = []
     for k, angle in enumerate(test.orientations_deg):
+        if angle in finished:
+            curves.append(finished[angle])
+            continue
         state.points[:], state.velocity[:] = fitted[0], 0.0
         state.shells.state.history[:] = fitted[1]
         state.fit.gap_offset[:] = fitted[2]
         if test.friction > 0.0:
             state.fit.start_friction(test.friction, state.points)
         curves.append(squeeze(state, test, options, angle, curve=k < test.curve_orientations))
+        if record is not None:
+            record(curves[-1])
     return state, curves
 

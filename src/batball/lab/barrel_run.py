@@ -13,6 +13,7 @@ Two folders, each keyed by the hash of its inputs:
 
 from __future__ import annotations
 
+import json
 import time
 from pathlib import Path
 from typing import Any
@@ -25,6 +26,7 @@ from batball.io.store import (
     load_cached_summary,
     run_folder,
     write_csv_atomic,
+    write_json_atomic,
     write_summary,
 )
 from batball.lab.barrel import (
@@ -45,7 +47,11 @@ from batball.lab.barrel import (
     thin_ring_interference_pressure,
     von_mises,
 )
-from batball.lab.barrel_explicit import ExplicitBarrelOptions, run_explicit_compression
+from batball.lab.barrel_explicit import (
+    ExplicitBarrelOptions,
+    ExplicitCurve,
+    run_explicit_compression,
+)
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
 
@@ -279,13 +285,46 @@ def run_barrel_test(
     return summary, folder
 
 
+def orientation_file(folder: Path, angle: float) -> Path:
+    """Where one orientation of the explicit test is kept until the run completes."""
+    return folder / f"orientation_{angle:+g}deg.json"
+
+
+def save_orientation(folder: Path, run: ExplicitCurve) -> None:
+    """One finished orientation, atomically (SI arrays), so an interrupted run resumes."""
+    c = run.curve
+    write_json_atomic(orientation_file(folder, c.orientation_deg), {
+        "orientation_deg": c.orientation_deg, "travel_m": c.travel.tolist(),
+        "force_n": c.force.tolist(), "insert_top_n": c.insert_top.tolist(),
+        "insert_bottom_n": c.insert_bottom.tolist(), "kinetic_ratio": run.kinetic_ratio.tolist(),
+        "drift": run.drift.tolist(), "travel_error_m": run.travel_error.tolist(),
+        "cycles": run.cycles, "seconds": run.seconds,
+    })  # fmt: skip
+
+
+def load_orientations(folder: Path) -> dict[float, ExplicitCurve]:
+    """The orientations an interrupted run of this folder finished, by angle (deg)."""
+    done = {}
+    for path in sorted(folder.glob("orientation_*deg.json")):
+        d = json.loads(path.read_text())
+        curve = CompressionCurve(d["orientation_deg"], np.array(d["travel_m"]),
+                                 np.array(d["force_n"]), np.array(d["insert_top_n"]),
+                                 np.array(d["insert_bottom_n"]), d["cycles"])  # fmt: skip
+        done[float(d["orientation_deg"])] = ExplicitCurve(
+            curve, np.array(d["kinetic_ratio"]), np.array(d["drift"]),
+            np.array(d["travel_error_m"]), d["cycles"], d["seconds"])  # fmt: skip
+    return done
+
+
 def run_explicit_barrel_test(spec: BatSpec, *, runs_dir: Path, options: BarrelTestOptions,
                              explicit: ExplicitBarrelOptions, reuse: bool = True,
                              ) -> tuple[dict[str, Any], Path]:  # fmt: skip
     """The test on the explicit, geometrically nonlinear shells
     (:mod:`batball.lab.barrel_explicit`): fit, squeeze at every orientation; the summary and the
     run folder ``barrel-explicit-<hash>`` (``summary.json``, ``force_travel.csv`` / ``.png``).
-    The fit is relaxed again on every run (seconds), not stored."""
+    The fit is relaxed again on every run (seconds), not stored; each orientation is kept as
+    it finishes (``orientation_<deg>deg.json``), so an interrupted run resumes after the last
+    one done."""
     inputs = {"bat": bat_spec_to_toml_dict(spec), "protocol": repr(options),
               "explicit": repr(explicit), "batball": __version__}  # fmt: skip
     folder = run_folder(runs_dir, "barrel-explicit", inputs)
@@ -293,7 +332,10 @@ def run_explicit_barrel_test(spec: BatSpec, *, runs_dir: Path, options: BarrelTe
     if cached is not None:
         return cached, folder
     start = time.perf_counter()
-    state, runs = run_explicit_compression(spec, options, explicit)
+    state, runs = run_explicit_compression(
+        spec, options, explicit, finished=load_orientations(folder),
+        record=lambda run: save_orientation(folder, run),
+    )  # fmt: skip
     curves = [r.curve for r in runs]
     end = options.preload_travel + options.final_travel
     preloads = np.array([c.force_at(options.preload_travel) for c in curves])

@@ -199,3 +199,28 @@ def test_cli_runs_the_explicit_squeeze_into_its_own_folder(
         assert (folder / name).is_file()
     assert main(base) == 0  # the stored run, told in words with the solver named
     assert "solver: explicit" in capsys.readouterr().out
+
+
+def test_an_interrupted_explicit_run_resumes_after_the_last_orientation_done(
+    tmp_path: Path,
+) -> None:
+    from batball.lab.barrel import BarrelTestOptions
+    from batball.lab.barrel_explicit import ExplicitBarrelOptions
+    from batball.lab.barrel_run import orientation_file, run_explicit_barrel_test
+    from batball.specs import load_bat_spec
+
+    spec = load_bat_spec("default")
+    test = BarrelTestOptions(orientations_deg=(0.0, 90.0), curve_orientations=0)
+    explicit = ExplicitBarrelOptions(circumferential=8, axial_size=1.0 * IN)
+    first, folder = run_explicit_barrel_test(spec, runs_dir=tmp_path, options=test,
+                                             explicit=explicit)  # fmt: skip
+    # interrupted after 0 deg: no summary, the 90-deg record lost; mark the kept one
+    (folder / "summary.json").unlink()
+    orientation_file(folder, 90.0).unlink()
+    kept = json.loads(orientation_file(folder, 0.0).read_text())
+    kept["cycles"] = 7
+    orientation_file(folder, 0.0).write_text(json.dumps(kept))
+    resumed, _ = run_explicit_barrel_test(spec, runs_dir=tmp_path, options=test,
+                                          explicit=explicit)  # fmt: skip
+    assert resumed["cycles"] == 7 + first["cycles"] // 2  # 0 deg read back, 90 deg run again
+    assert resumed["preload_lbf"] == pytest.approx(first["preload_lbf"], rel=1e-12)
