@@ -66,7 +66,7 @@ from batball.lab.bbs import (
 )
 from batball.lab.impact import ContactOptions
 from batball.mesh.bat import outer_rings
-from batball.solvers.ball_bat import BatPart, ShellForces
+from batball.solvers.ball_bat import BatPart, ShellForces, relax_fit
 from batball.specs.bat import BatSpec
 
 IN = 0.0254  # m
@@ -207,31 +207,26 @@ def relaxation_step(forces: np.ndarray, mass: np.ndarray, velocity: np.ndarray,
 
 
 def press_fit(state: ExplicitBat, options: ExplicitBarrelOptions) -> None:
-    """Press the insert in (the fit's overlap removed over a ramp, then settled) as the BBS
-    test's relaxation does, with its damping factor 0.995 a cycle and its physical times
-    (:func:`batball.lab.bbs.relaxation_cycles`); velocities zeroed after."""
-    setup, fit = options.bbs_setup(), state.fit
+    """Press the insert in (the fit's overlap removed over a ramp, then settled) by the BBS
+    test's relaxation (:func:`batball.solvers.ball_bat.relax_fit`, its damping factor 0.995
+    a cycle and its physical times, :func:`batball.lab.bbs.relaxation_cycles`)."""
+    setup = options.bbs_setup()
     ramp, settle = relaxation_cycles(setup, state.bat.stable_step)
-    overlap = fit.gap_offset.copy()
-    interference = float(state.spec.insert.interference)  # type: ignore[union-attr]
     forces, contact = np.zeros_like(state.velocity), np.zeros_like(state.points)
-    mass, dt = state.bat.mass, state.bat.stable_step
-    peak = kinetic = 0.0
-    for step in range(ramp + settle):
-        fit.gap_offset[:] = overlap - min(1.0, (step + 1) / ramp) * interference
-        if step % setup.search_interval == 0:
-            fit.search(state.points)
-        state.forces(forces, contact)
-        state.velocity += dt * forces / mass
-        state.velocity *= 0.995
-        state.points += dt * state.velocity[:, :3]
-        kinetic = 0.5 * float(np.sum(mass * state.velocity**2))
-        peak = max(peak, kinetic)
-    state.velocity[:] = 0.0
-    state.prestress_kinetic_ratio = kinetic / peak if peak > 0 else 0.0
-    state.fit_pressure = fit_pressure(fit, state.points, state.reference, state.insert_cells)
-    state.fit_pressure_force = float(np.linalg.norm(fit.slave_force, axis=1).sum())
 
+    def bat_forces() -> np.ndarray:
+        state.forces(forces, contact)
+        return forces
+
+    state.prestress_kinetic_ratio = relax_fit(
+        [state.fit], interference=float(state.spec.insert.interference),  # type: ignore[union-attr]
+        ramp_steps=ramp, settle_steps=settle, search_interval=setup.search_interval,
+        points=state.points, forces=bat_forces, mass=state.bat.mass, velocity=state.velocity,
+        moving=np.ones(state.points.shape[0], dtype=np.bool_), dt=state.bat.stable_step,
+    )  # fmt: skip
+    state.fit_pressure = fit_pressure(state.fit, state.points, state.reference,
+                                      state.insert_cells)  # fmt: skip
+    state.fit_pressure_force = float(np.linalg.norm(state.fit.slave_force, axis=1).sum())
 
 @dataclass(frozen=True)
 class Platens:

@@ -27,6 +27,7 @@ kinetic energy is the balance error.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numba as nb
@@ -421,6 +422,42 @@ class CoupledResult:
         return self.history[:, HISTORY_COLUMNS.index(name)]
 
 
+def relax_fit(pairs: Sequence[SegmentContact | ColumnContact], *, interference: float,
+              ramp_steps: int, settle_steps: int, search_interval: int, points: np.ndarray,
+              forces: Callable[[], np.ndarray], mass: np.ndarray, velocity: np.ndarray,
+              moving: np.ndarray, dt: float, factor: float = 0.995,
+              history: list[float] | None = None) -> float:  # fmt: skip
+    """Dynamic relaxation of an insert's fit (LS-DYNA ``*CONTROL_DYNAMIC_RELAXATION``, physics.md
+    6.7), shared by the BBS test and the explicit barrel test: the ``pairs``' ignored initial
+    overlap is reduced by ``interference`` [m] over ``ramp_steps``, then ``settle_steps``
+    more. Each cycle ``forces()`` returns the total force on the bat's nodes, (n_bat, 6), at
+    the current state (``points``, (n, 3), the bat's nodes first); then v += dt f / m, the
+    ``moving`` nodes move by dt v, and v is scaled by ``factor`` (DRFCTR). Velocities
+    (n_bat, 6) are zeroed at the end.
+
+    Returns:
+        The bat's kinetic energy at the end over its largest value (LS-DYNA's DRTOL measure);
+        ``history`` receives the kinetic energy of every cycle [J].
+    """
+    overlaps = [pair.gap_offset.copy() for pair in pairs]
+    bat_points = points[: mass.shape[0]]
+    peak = kinetic = 0.0
+    for step in range(ramp_steps + settle_steps):
+        share = max(0.0, 1.0 - (step + 1) / ramp_steps)
+        for pair, overlap in zip(pairs, overlaps, strict=True):
+            pair.gap_offset[:] = overlap - (1.0 - share) * interference
+            if step % search_interval == 0:
+                pair.search(points)
+        central_difference(forces(), mass, velocity, dt, dt, bat_points, moving)
+        velocity *= factor
+        kinetic = 0.5 * float(np.sum(mass * velocity**2))
+        peak = max(peak, kinetic)
+        if history is not None:
+            history.append(kinetic)
+    velocity[:] = 0.0
+    return kinetic / peak if peak > 0 else 0.0
+
+
 class CoupledSolver:
     """Runs a :class:`CoupledModel` with :class:`CoupledControls` (module docs)."""
 
@@ -508,32 +545,26 @@ class CoupledSolver:
         """
         m, n_bat = self.model, self.model.n_bat
         inserts = m.contacts[m.ball_contacts :]
-        overlaps = [pair.gap_offset.copy() for pair in inserts]
-        dt, peak, kinetic = m.bat.stable_step, 0.0, 0.0
-        forces = np.zeros((self.points.shape[0], 3))
-        for step in range(ramp_steps + settle_steps):
-            share = max(0.0, 1.0 - (step + 1) / ramp_steps)
-            for pair, overlap in zip(inserts, overlaps, strict=True):
-                pair.gap_offset[:] = overlap - (1.0 - share) * interference
-                if step % self.controls.search_interval == 0:
-                    pair.search(self.points)
-            self.dt = dt
+        contact = np.zeros((self.points.shape[0], 3))
+        self.dt = m.bat.stable_step
+
+        def bat_forces() -> np.ndarray:
             self.element_forces()
-            forces[:] = 0.0
+            contact[:] = 0.0
             for pair in inserts:
-                pair.add_forces(self.points, forces)
-            self.bat_forces[:, :3] += forces[:n_bat]
+                pair.add_forces(self.points, contact)
+            self.bat_forces[:, :3] += contact[:n_bat]
             self.bat_forces[m.bat.band] = 0.0  # the pivot band held still
-            central_difference(self.bat_forces, m.bat.mass, self.bat_velocity, dt, dt,
-                               self.bat_points, self.bat_moving)  # fmt: skip
-            self.bat_velocity *= factor
-            kinetic = 0.5 * float(np.sum(m.bat.mass * self.bat_velocity**2))
-            peak = max(peak, kinetic)
-            self.relax_history.append(kinetic)
-        self.bat_velocity[:] = 0.0
+            return self.bat_forces
+
+        ratio = relax_fit(inserts, interference=interference, ramp_steps=ramp_steps,
+                          settle_steps=settle_steps, search_interval=self.controls.search_interval,
+                          points=self.points, forces=bat_forces, mass=m.bat.mass,
+                          velocity=self.bat_velocity, moving=self.bat_moving, dt=self.dt,
+                          factor=factor, history=self.relax_history)  # fmt: skip
         self.ball_state = BallState.initial(m.ball, self.controls.precision)
         self.dt, self.energies[:] = 0.0, 0.0
-        return kinetic / peak if peak > 0 else 0.0
+        return ratio
 
     def contact(self) -> tuple[int, int]:
         """Contact forces of every pair into ``contact_forces``; (ball-bat, insert) slaves."""
