@@ -28,6 +28,7 @@ ratio 2.5 that this definition gives; docs/barrel.md weighs the other readings).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -386,13 +387,18 @@ def along(gaps: PenaltyGaps, direction: np.ndarray, n_points: int) -> np.ndarray
     return gaps.matrix @ translation.ravel()
 
 
+def radial_cosines(points: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Radial unit vector (from the bat's x axis) of each of ``points`` (n, 3) dotted with
+    ``direction`` (3,), (n,): which side of the load axis a node lies on."""
+    return (points[:, 1:] @ direction[1:]) / np.hypot(points[:, 1], points[:, 2])
+
+
 def insert_cosines(model: BarrelModel, direction: np.ndarray) -> np.ndarray:
     """Radial unit vector of each insert node dotted with ``direction``, (n_insert,).
 
     (Not :func:`along` of the fit gaps: a gap between two bodies does not change under a common
     translation, so that is zero for every gap.)"""
-    points = model.mesh.points[model.insert_nodes]
-    return (points[:, 1:] @ direction[1:]) / np.hypot(points[:, 1], points[:, 2])
+    return radial_cosines(model.mesh.points[model.insert_nodes], direction)
 
 
 def halves(forces: np.ndarray, cosine: np.ndarray) -> tuple[float, float]:
@@ -556,12 +562,20 @@ class BarrelResult:
 
     def preloads(self) -> np.ndarray:
         """F(preload travel) per orientation, (n_orientations,), N."""
-        return np.array([c.force_at(self.options.preload_travel) for c in self.curves])
+        return table2_loads(self.curves, self.options)[0]
 
     def final_loads(self) -> np.ndarray:
         """F(preload + final travel) - F(preload travel) per orientation, N (the zeroed force)."""
-        end = self.options.preload_travel + self.options.final_travel
-        return np.array([c.force_at(end) for c in self.curves]) - self.preloads()
+        return table2_loads(self.curves, self.options)[1]
+
+
+def table2_loads(curves: Sequence[CompressionCurve],
+                 options: BarrelTestOptions) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Table 2's pair per orientation, N: the preload F(preload travel) and the final load
+    F(preload + final travel) - F(preload travel) (the zeroed force), (n_orientations,) each."""
+    end = options.preload_travel + options.final_travel
+    preloads = np.array([c.force_at(options.preload_travel) for c in curves])
+    return preloads, np.array([c.force_at(end) for c in curves]) - preloads
 
 
 def run_barrel_compression(model: BarrelModel, prestress: Prestress,

@@ -54,6 +54,7 @@ from batball.lab.barrel import (
     CompressionCurve,
     halves,
     load_axes,
+    radial_cosines,
     support_nodes,
 )
 from batball.lab.bbs import (
@@ -308,11 +309,8 @@ class ExplicitCurve:
 
 def insert_split(state: ExplicitBat, contact: np.ndarray, load: np.ndarray) -> tuple[float, float]:
     """Insert-barrel contact force magnitudes on the insert's top and bottom halves [N]."""
-    fit = state.fit
-    nodes = fit.slave_nodes
-    p = state.points[nodes]
-    cosine = (p[:, 1:] @ load[1:]) / np.hypot(p[:, 1], p[:, 2])
-    return halves(np.linalg.norm(contact[nodes], axis=1), cosine)
+    nodes = state.fit.slave_nodes
+    return halves(np.linalg.norm(contact[nodes], axis=1), radial_cosines(state.points[nodes], load))
 
 
 def squeeze(state: ExplicitBat, test: BarrelTestOptions, options: ExplicitBarrelOptions,

@@ -44,6 +44,7 @@ from batball.lab.barrel import (
     load_axes,
     membrane_stress,
     run_barrel_compression,
+    table2_loads,
     thin_ring_interference_pressure,
     von_mises,
 )
@@ -121,40 +122,26 @@ def interference_pressure(model: BarrelModel, prestress: Prestress) -> float:
     return float(prestress.contact_force.sum() / contact_areas(model).sum())
 
 
-def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any]:
-    """The summary a person reads: each number's unit is in its key."""
-    model, options, prestress = result.model, result.options, result.prestress
-    preloads, finals = result.preloads() / LBF, result.final_loads() / LBF
-    stress = membrane_stress(model, prestress.u)[:, 1] / PSI
-    barrel_cells = np.concatenate([model.mesh.cell_sets[p.name] for p in model.spec.parts
-                                   if p.name.startswith("barrel")])  # fmt: skip
-    curve = result.curves[0]
-    cosine = insert_cosines(model, load_axes(curve.orientation_deg)[0])
-    fit_split = halves(prestress.contact_force, cosine)
+def table2_summary(spec: BatSpec, curves: list[CompressionCurve],
+                   options: BarrelTestOptions) -> dict[str, Any]:  # fmt: skip
+    """What both solvers' summaries report: Table 2's loads beside the seed's, the fit's
+    nominal numbers, the insert's contact split on the first orientation, the protocol."""
+    preloads, finals = (loads / LBF for loads in table2_loads(curves, options))
+    curve = curves[0]
     end = options.preload_travel + options.final_travel
     levels = [np.argmin(np.abs(curve.travel - t)) for t in (options.preload_travel, end)]
     return {
         "test": "barrel",
-        "bat": model.spec.name,
+        "bat": spec.name,
         "preload_lbf": float(preloads.mean()),
         "final_load_lbf": float(finals.mean()),
         "orientations_deg": list(options.orientations_deg),
         "preload_by_orientation_lbf": preloads.tolist(),
         "final_load_by_orientation_lbf": finals.tolist(),
         "seed_table2": SEED_TABLE2,
-        "interference_in": model.spec.insert.interference / IN if model.spec.insert else 0.0,
-        "interference_pressure_psi": interference_pressure(model, prestress) / PSI,
-        "interference_pressure_range_psi": [
-            float(prestress.contact_pressure.min() / PSI),
-            float(prestress.contact_pressure.max() / PSI),
-        ],
-        "interference_pressure_thin_ring_psi": thin_ring_interference_pressure(model.spec) / PSI,
-        "prestress_hoop_stress_median_psi": {
-            "barrel": float(np.median(stress[barrel_cells])),
-            "insert": float(np.median(stress[model.mesh.cell_sets["insert"]])),
-        },
+        "interference_in": spec.insert.interference / IN if spec.insert else 0.0,
+        "interference_pressure_thin_ring_psi": thin_ring_interference_pressure(spec) / PSI,
         "insert_contact_lbf": {
-            "prestress": dict(zip(("top", "bottom"), np.array(fit_split) / LBF, strict=True)),
             "preload": {
                 "top": curve.insert_top[levels[0]] / LBF,
                 "bottom": curve.insert_bottom[levels[0]] / LBF,
@@ -168,12 +155,39 @@ def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any
         "insert_friction": options.friction,
         "platen_diameter_in": options.platen_diameter / IN,
         "platen_from_cap_in": options.distance_from_cap / IN,
+    }
+
+
+def summarise_barrel(result: BarrelResult, wall_seconds: float) -> dict[str, Any]:
+    """The summary a person reads: each number's unit is in its key."""
+    model, prestress = result.model, result.prestress
+    summary = table2_summary(model.spec, list(result.curves), result.options)
+    stress = membrane_stress(model, prestress.u)[:, 1] / PSI
+    barrel_cells = np.concatenate([model.mesh.cell_sets[p.name] for p in model.spec.parts
+                                   if p.name.startswith("barrel")])  # fmt: skip
+    cosine = insert_cosines(model, load_axes(result.curves[0].orientation_deg)[0])
+    fit_split = halves(prestress.contact_force, cosine)
+    summary["insert_contact_lbf"] = {
+        "prestress": dict(zip(("top", "bottom"), np.array(fit_split) / LBF, strict=True)),
+        **summary["insert_contact_lbf"],
+    }
+    summary.update({
+        "interference_pressure_psi": interference_pressure(model, prestress) / PSI,
+        "interference_pressure_range_psi": [
+            float(prestress.contact_pressure.min() / PSI),
+            float(prestress.contact_pressure.max() / PSI),
+        ],
+        "prestress_hoop_stress_median_psi": {
+            "barrel": float(np.median(stress[barrel_cells])),
+            "insert": float(np.median(stress[model.mesh.cell_sets["insert"]])),
+        },
         "triangular_solves": int(sum(c.iterations for c in result.curves)),
         "factorisations": int(sum(c.factorisations for c in result.curves)),
         "n_shells": model.mesh.n_cells,
         "n_points": model.mesh.n_points,
         "wall_seconds": wall_seconds,
-    }
+    })  # fmt: skip
+    return summary
 
 
 def write_curve(folder: Path, result: BarrelResult) -> None:
@@ -337,47 +351,23 @@ def run_explicit_barrel_test(spec: BatSpec, *, runs_dir: Path, options: BarrelTe
         record=lambda run: save_orientation(folder, run),
     )  # fmt: skip
     curves = [r.curve for r in runs]
-    end = options.preload_travel + options.final_travel
-    preloads = np.array([c.force_at(options.preload_travel) for c in curves])
-    finals = np.array([c.force_at(end) for c in curves]) - preloads
-    first = curves[0]
-    levels = [np.argmin(np.abs(first.travel - t)) for t in (options.preload_travel, end)]
-    summary = {
-        "test": "barrel",
+    summary = table2_summary(spec, curves, options)
+    summary.update({
         "solver": "explicit: Belytschko-Tsay shells, dynamic relaxation, geometrically nonlinear",
-        "bat": spec.name,
-        "preload_lbf": float(preloads.mean() / LBF),
-        "final_load_lbf": float(finals.mean() / LBF),
-        "orientations_deg": list(options.orientations_deg),
-        "preload_by_orientation_lbf": (preloads / LBF).tolist(),
-        "final_load_by_orientation_lbf": (finals / LBF).tolist(),
-        "seed_table2": SEED_TABLE2,
-        "interference_in": spec.insert.interference / IN if spec.insert else 0.0,
         "interference_pressure_psi": state.fit_pressure / PSI,
-        "interference_pressure_thin_ring_psi": thin_ring_interference_pressure(spec) / PSI,
         "prestress_kinetic_ratio": state.prestress_kinetic_ratio,
-        "insert_contact_lbf": {
-            "preload": {"top": first.insert_top[levels[0]] / LBF,
-                        "bottom": first.insert_bottom[levels[0]] / LBF},
-            "final": {"top": first.insert_top[levels[1]] / LBF,
-                      "bottom": first.insert_bottom[levels[1]] / LBF},
-            "orientation_deg": first.orientation_deg,
-        },  # fmt: skip
         "settling": {
             "largest_kinetic_ratio": float(max(r.kinetic_ratio.max() for r in runs)),
             "largest_force_drift": float(max(np.abs(r.drift).max() for r in runs)),
             "largest_travel_error_in": float(max(np.abs(r.travel_error).max() for r in runs) / IN),
         },
-        "insert_friction": options.friction,
-        "platen_diameter_in": options.platen_diameter / IN,
-        "platen_from_cap_in": options.distance_from_cap / IN,
         "cycles": int(sum(r.cycles for r in runs)),
         "time_step_s": state.bat.stable_step,
         "n_shells": int(state.bat.cells.shape[0]),
         "n_points": int(state.points.shape[0]),
         "wall_seconds": time.perf_counter() - start,
-    }
-    write_curve_of(folder, first, state.fit_pressure_force / 2 / LBF, options)
+    })  # fmt: skip
+    write_curve_of(folder, curves[0], state.fit_pressure_force / 2 / LBF, options)
     summary["run_folder"] = folder.as_posix()
     write_summary(folder, summary)
     return summary, folder

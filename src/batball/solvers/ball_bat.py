@@ -575,11 +575,13 @@ class CoupledSolver:
             clock = self.timed("contact_search", clock)
         self.contact_forces[:] = 0.0
         n_bat = self.model.n_bat
-        self.spin[:n_bat] = self.dt * self.bat_velocity[:, 3:]
+        rubbing = [pair for pair in self.model.contacts
+                   if isinstance(pair, ColumnContact) and pair.friction > 0.0]  # fmt: skip
+        if rubbing:  # the faces' slip needs the walls' rotations over the last step
+            self.spin[:n_bat] = self.dt * self.bat_velocity[:, 3:]
         counts = [pair.add_forces(self.points, self.contact_forces) for pair in self.model.contacts]
-        for pair in self.model.contacts:  # frictional faces' moments: the walls' rotations
-            if isinstance(pair, ColumnContact) and pair.friction > 0.0:
-                self.bat_forces[:, 3:] += pair.moments[:n_bat]
+        for pair in rubbing:  # the friction's moments at the faces
+            self.bat_forces[:, 3:] += pair.moments[:n_bat]
         self.timed("contact_forces", clock)
         k = self.model.ball_contacts
         return sum(counts[:k]), sum(counts[k:])
