@@ -17,6 +17,7 @@ import os
 import re
 import secrets
 import time
+import zipfile
 from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
@@ -139,6 +140,37 @@ def write_csv_atomic(
     np.savetxt(buffer, np.column_stack(arrays), fmt=float_format, delimiter=",",
                header=",".join(names), comments="")  # fmt: skip
     write_text_atomic(path, buffer.getvalue())
+
+
+def arrays_digest(*arrays: np.ndarray) -> str:
+    """SHA-256 (hex) of the arrays' dtypes, shapes and bytes, in order: a store key for inputs
+    that are arrays (a mesh, its masses) rather than a few numbers."""
+    digest = hashlib.sha256()
+    for array in arrays:
+        a = np.ascontiguousarray(array)
+        digest.update(f"{a.dtype.str}{a.shape}".encode())
+        digest.update(a.tobytes())
+    return digest.hexdigest()
+
+
+def write_arrays_atomic(path: Path, arrays: Mapping[str, np.ndarray]) -> None:
+    """Write named arrays as an uncompressed ``.npz`` at ``path`` atomically."""
+    with atomic_path(path) as tmp, open(tmp, "wb") as stream:
+        np.savez(stream, **{name: np.asarray(a) for name, a in arrays.items()})  # type: ignore[arg-type]
+        stream.flush()
+        os.fsync(stream.fileno())
+
+
+def load_stored_arrays(folder: Path, name: str) -> dict[str, np.ndarray] | None:
+    """The arrays of ``folder/name`` (an ``.npz``) if the folder's run is complete (its summary
+    is written last) and the file reads; else None, and the run is done again."""
+    if load_cached_summary(folder) is None:
+        return None
+    try:
+        with np.load(Path(folder) / name) as data:
+            return {key: data[key] for key in data.files}
+    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
+        return None
 
 
 def write_summary(folder: Path, summary: Mapping[str, Any]) -> Path:

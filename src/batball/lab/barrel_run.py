@@ -13,6 +13,7 @@ Two folders, each keyed by the hash of its inputs:
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import time
 from pathlib import Path
@@ -24,7 +25,9 @@ from batball import __version__
 from batball.io.store import (
     atomic_path,
     load_cached_summary,
+    load_stored_arrays,
     run_folder,
+    write_arrays_atomic,
     write_csv_atomic,
     write_json_atomic,
     write_summary,
@@ -80,24 +83,19 @@ def prestress_inputs(spec: BatSpec, circumferential: int, axial_size: float,
 
 def save_prestress(folder: Path, prestress: Prestress, summary: dict[str, Any]) -> None:
     """Write ``prestress.npz`` then the folder's summary (atomic, summary last)."""
-    with atomic_path(folder / PRESTRESS_FILE) as tmp, open(tmp, "wb") as stream:
-        np.savez(stream, u=prestress.u, contact_force=prestress.contact_force,
-                 contact_pressure=prestress.contact_pressure, active=prestress.active,
-                 ramp_pressure=prestress.ramp_pressure)  # fmt: skip
+    write_arrays_atomic(folder / PRESTRESS_FILE, dataclasses.asdict(prestress))
     write_summary(folder, summary)
 
 
 def load_prestress(folder: Path, model: BarrelModel) -> Prestress | None:
     """The stored state if the folder is complete and its arrays fit ``model``, else None."""
-    if load_cached_summary(folder) is None:
-        return None
+    data = load_stored_arrays(folder, PRESTRESS_FILE)
     try:
-        with np.load(folder / PRESTRESS_FILE) as data:
-            stored = Prestress(data["u"], data["contact_force"], data["contact_pressure"],
-                               data["active"], data["ramp_pressure"])  # fmt: skip
-    except (OSError, KeyError, ValueError):
+        stored = Prestress(**data) if data is not None else None
+    except TypeError:  # other fields: written by another version
         return None
-    if stored.u.size != 6 * model.mesh.n_points or stored.active.size != model.interference.n_gaps:
+    if stored is None or stored.u.size != 6 * model.mesh.n_points \
+            or stored.active.size != model.interference.n_gaps:
         return None
     return stored
 
