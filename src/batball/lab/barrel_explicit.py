@@ -41,6 +41,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 
 import numba as nb
 import numpy as np
@@ -65,9 +66,10 @@ from batball.lab.bbs import (
     insert_barrel_contact,
     relaxation_cycles,
 )
+from batball.lab.fit_store import FitRelaxation, capture_fit, fit_inputs, obtain_fit, restore_fit
 from batball.lab.impact import ContactOptions
 from batball.mesh.bat import outer_rings
-from batball.solvers.ball_bat import BatPart, ShellForces, relax_fit
+from batball.solvers.ball_bat import RELAX_FACTOR, BatPart, ShellForces, relax_fit
 from batball.specs.bat import BatSpec
 
 IN = 0.0254  # m
@@ -140,6 +142,7 @@ class ExplicitBat:
     prestress_kinetic_ratio: float = float("nan")
     fit_pressure: float = float("nan")  # mean insert-barrel pressure after the fit [Pa]
     fit_pressure_force: float = float("nan")  # the fit's total normal force [N]
+    fit_reused: bool = False  # the fit was restored from a store, not relaxed in this run
 
     def __post_init__(self) -> None:
         self.spin = np.zeros_like(self.points)
@@ -207,27 +210,38 @@ def relaxation_step(forces: np.ndarray, mass: np.ndarray, velocity: np.ndarray,
     return kinetic
 
 
-def press_fit(state: ExplicitBat, options: ExplicitBarrelOptions) -> None:
+def press_fit(state: ExplicitBat, options: ExplicitBarrelOptions, *, store: Path | None = None,
+              reuse: bool = True) -> None:  # fmt: skip
     """Press the insert in (the fit's overlap removed over a ramp, then settled) by the BBS
-    test's relaxation (:func:`batball.solvers.ball_bat.relax_fit`, its damping factor 0.995
-    a cycle and its physical times, :func:`batball.lab.bbs.relaxation_cycles`)."""
+    test's relaxation (:func:`batball.solvers.ball_bat.relax_fit`, its damping factor
+    and its physical times, :func:`batball.lab.bbs.relaxation_cycles`), or restore it from
+    ``store`` (:mod:`batball.lab.fit_store`) when this bat's fit is there and ``reuse``."""
     setup = options.bbs_setup()
     ramp, settle = relaxation_cycles(setup, state.bat.stable_step)
     forces, contact = np.zeros_like(state.velocity), np.zeros_like(state.points)
+    interference = float(state.spec.insert.interference)  # type: ignore[union-attr]
+    moving = np.ones(state.points.shape[0], dtype=np.bool_)
 
     def bat_forces() -> np.ndarray:
         state.forces(forces, contact)
         return forces
 
-    state.prestress_kinetic_ratio = relax_fit(
-        [state.fit], interference=float(state.spec.insert.interference),  # type: ignore[union-attr]
-        ramp_steps=ramp, settle_steps=settle, search_interval=setup.search_interval,
-        points=state.points, forces=bat_forces, mass=state.bat.mass, velocity=state.velocity,
-        moving=np.ones(state.points.shape[0], dtype=np.bool_), dt=state.bat.stable_step,
-    )  # fmt: skip
+    def relax() -> float:
+        return relax_fit([state.fit], interference=interference, ramp_steps=ramp,
+                         settle_steps=settle, search_interval=setup.search_interval,
+                         points=state.points, forces=bat_forces, mass=state.bat.mass,
+                         velocity=state.velocity, moving=moving, dt=state.bat.stable_step,
+                         factor=RELAX_FACTOR)  # fmt: skip
+
+    relaxation = FitRelaxation(interference, ramp, settle, setup.search_interval,
+                               state.bat.stable_step, RELAX_FACTOR, options.hourglass_ratio)
+    inputs = fit_inputs(state.bat, state.reference, [state.fit], moving, relaxation)
+    state.prestress_kinetic_ratio, _, state.fit_reused = obtain_fit(
+        store, inputs, relax, state.points, state.shells.state, [state.fit], reuse=reuse)
     state.fit_pressure = fit_pressure(state.fit, state.points, state.reference,
                                       state.insert_cells)  # fmt: skip
     state.fit_pressure_force = float(np.linalg.norm(state.fit.slave_force, axis=1).sum())
+
 
 @dataclass(frozen=True)
 class Platens:
@@ -376,23 +390,25 @@ def run_explicit_compression(
     spec: BatSpec, test: BarrelTestOptions, options: ExplicitBarrelOptions, *,
     finished: dict[float, ExplicitCurve] | None = None,
     record: Callable[[ExplicitCurve], None] | None = None,
+    store: Path | None = None,
+    reuse: bool = True,
 ) -> tuple[ExplicitBat, list[ExplicitCurve]]:
     """Fit the insert, then squeeze at every orientation of ``test`` from the fitted state.
 
     ``finished`` holds orientations already run (by angle, deg; an interrupted run resumes
-    with them), ``record`` is called with each new one as soon as it is done."""
+    with them), ``record`` is called with each new one as soon as it is done; ``store``, the
+    runs folder that keeps the relaxed fit (:func:`press_fit`)."""
     finished = {} if finished is None else finished
     state = build_explicit_bat(spec, options)
-    press_fit(state, options)
-    fitted = (state.points.copy(), state.shells.state.history.copy(), state.fit.gap_offset.copy())
+    press_fit(state, options, store=store, reuse=reuse)
+    fitted = capture_fit(state.points, state.shells.state, [state.fit])
     curves = []
     for k, angle in enumerate(test.orientations_deg):
         if angle in finished:
             curves.append(finished[angle])
             continue
-        state.points[:], state.velocity[:] = fitted[0], 0.0
-        state.shells.state.history[:] = fitted[1]
-        state.fit.gap_offset[:] = fitted[2]
+        restore_fit(fitted, state.points, state.shells.state, [state.fit])
+        state.velocity[:] = 0.0
         if test.friction > 0.0:
             state.fit.start_friction(test.friction, state.points)
         curves.append(squeeze(state, test, options, angle, curve=k < test.curve_orientations))

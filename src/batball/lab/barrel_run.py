@@ -334,9 +334,9 @@ def run_explicit_barrel_test(spec: BatSpec, *, runs_dir: Path, options: BarrelTe
     """The test on the explicit, geometrically nonlinear shells
     (:mod:`batball.lab.barrel_explicit`): fit, squeeze at every orientation; the summary and the
     run folder ``barrel-explicit-<hash>`` (``summary.json``, ``force_travel.csv`` / ``.png``).
-    The fit is relaxed again on every run (seconds), not stored; each orientation is kept as
-    it finishes (``orientation_<deg>deg.json``), so an interrupted run resumes after the last
-    one done."""
+    The relaxed fit is kept in ``fit-<hash>`` and reused by later runs of the same bat model
+    (:mod:`batball.lab.fit_store`); each orientation is kept as it finishes
+    (``orientation_<deg>deg.json``), so an interrupted run resumes after the last one done."""
     inputs = {"bat": bat_spec_to_toml_dict(spec), "protocol": repr(options),
               "explicit": repr(explicit), "batball": __version__}  # fmt: skip
     folder = run_folder(runs_dir, "barrel-explicit", inputs)
@@ -346,7 +346,7 @@ def run_explicit_barrel_test(spec: BatSpec, *, runs_dir: Path, options: BarrelTe
     start = time.perf_counter()
     state, runs = run_explicit_compression(
         spec, options, explicit, finished=load_orientations(folder),
-        record=lambda run: save_orientation(folder, run),
+        record=lambda run: save_orientation(folder, run), store=runs_dir, reuse=reuse,
     )  # fmt: skip
     curves = [r.curve for r in runs]
     summary = table2_summary(spec, curves, options)
@@ -354,6 +354,7 @@ def run_explicit_barrel_test(spec: BatSpec, *, runs_dir: Path, options: BarrelTe
         "solver": "explicit: Belytschko-Tsay shells, dynamic relaxation, geometrically nonlinear",
         "interference_pressure_psi": state.fit_pressure / PSI,
         "prestress_kinetic_ratio": state.prestress_kinetic_ratio,
+        "prestress_reused": state.fit_reused,
         "settling": {
             "largest_kinetic_ratio": float(max(r.kinetic_ratio.max() for r in runs)),
             "largest_force_drift": float(max(np.abs(r.drift).max() for r in runs)),

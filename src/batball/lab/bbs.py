@@ -27,6 +27,7 @@ of the barrel's segments).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -42,12 +43,14 @@ from batball.elements.shell_explicit import (
     selective_mass_scaling,
 )
 from batball.errors import SimulationError, SpecError
+from batball.lab.fit_store import FitRelaxation, fit_inputs, obtain_fit
 from batball.lab.impact import BallBody, ContactOptions, ball_body, estimate_first_step
 from batball.lab.props import bat_areal_mass, bat_laminates
 from batball.mesh import boundary_faces, hex_volumes
 from batball.mesh.bat import make_bat_mesh, outer_rings
 from batball.mesh.shell import ShellMesh, quad_areas
 from batball.solvers.ball_bat import (
+    RELAX_FACTOR,
     BallPart,
     BatPart,
     CoupledControls,
@@ -400,9 +403,11 @@ def build_bbs_model(spec: BatSpec, ball: BallSpec, setup: BbsSetup) -> BbsModel:
                     added_mass, moi)  # fmt: skip
 
 
-def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
-    """Pre-stress the bat (when asked and it has an insert), then run the impact to the end
-    time or separation."""
+def run_bbs_model(model: BbsModel, setup: BbsSetup, *, store: Path | None = None,
+                  reuse: bool = True) -> CoupledResult:  # fmt: skip
+    """Pre-stress the bat (when asked and it has an insert; from the fit stored under
+    ``store``, :mod:`batball.lab.fit_store`, when it is there and ``reuse``), then run the
+    impact to the end time or separation."""
     controls = CoupledControls(end_time=setup.end_time, time_step_scale=setup.time_step_scale,
                                search_interval=setup.search_interval,
                                separation_time=setup.separation_time,
@@ -410,11 +415,20 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
                                shell_hourglass_ratio=setup.shell_hourglass_ratio)  # fmt: skip
     solver = CoupledSolver(model.coupled, controls)
     inserts = model.coupled.contacts[model.coupled.ball_contacts :]
-    ratio, pressure = float("nan"), float("nan")
+    ratio, pressure, reused = float("nan"), float("nan"), False
     if setup.prestress and inserts:
-        ramp, settle = relaxation_cycles(setup, model.coupled.bat.stable_step)
-        ratio = solver.relax_bat(interference=model.interference, ramp_steps=ramp,
-                                 settle_steps=settle)  # fmt: skip
+        bat = model.coupled.bat
+        ramp, settle = relaxation_cycles(setup, bat.stable_step)
+        relaxation = FitRelaxation(model.interference, ramp, settle, setup.search_interval,
+                                   bat.stable_step, RELAX_FACTOR,
+                                   setup.shell_hourglass_ratio)  # fmt: skip
+        inputs = fit_inputs(bat, model.bat_mesh.points, inserts, solver.bat_moving, relaxation)
+        ratio, _, reused = obtain_fit(
+            store, inputs,
+            lambda: solver.relax_bat(interference=model.interference, ramp_steps=ramp,
+                                     settle_steps=settle, factor=RELAX_FACTOR),
+            solver.bat_points, solver.shell_state, inserts, reuse=reuse,
+        )  # fmt: skip
         pressure = insert_pressure(model, solver.points)
     if setup.insert_friction > 0.0:
         for pair in inserts:
@@ -422,6 +436,7 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup) -> CoupledResult:
                 pair.start_friction(setup.insert_friction, solver.points)
     result = solver.run()
     result.prestress_kinetic_ratio, result.interference_pressure = ratio, pressure
+    result.prestress_reused = reused
     return result
 
 
@@ -565,8 +580,10 @@ class BbsResult:
     measures: BbsMeasures
 
 
-def run_bbs(bat: BatSpec, ball: BallSpec, setup: BbsSetup) -> BbsResult:
-    """Build, run and measure one batted-ball-speed test."""
+def run_bbs(bat: BatSpec, ball: BallSpec, setup: BbsSetup, *, store: Path | None = None,
+            reuse: bool = True) -> BbsResult:  # fmt: skip
+    """Build, run and measure one batted-ball-speed test (``store``: the runs folder that keeps
+    the bat's relaxed fit, :func:`run_bbs_model`)."""
     model = build_bbs_model(bat, ball, setup)
-    run = run_bbs_model(model, setup)
+    run = run_bbs_model(model, setup, store=store, reuse=reuse)
     return BbsResult(bat, ball, setup, model, run, measure_bbs(model, run, setup))

@@ -83,6 +83,7 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         # None without a pre-stress (a rigid bat, no insert): JSON has no NaN
         "prestress_kinetic_ratio": finite_or_none(run.prestress_kinetic_ratio),
         "interference_pressure_psi": finite_or_none(run.interference_pressure / PSI),
+        "prestress_reused": run.prestress_reused,
         "n_shells": n_shells,
         "n_hexes": n_hexes,
         "n_steps": run.n_steps,
@@ -171,7 +172,7 @@ def run_bbs_test(
     if cached is not None:
         return cached, folder
     start = time.perf_counter()
-    result = run_bbs(bat, ball, setup)
+    result = run_bbs(bat, ball, setup, store=runs_dir, reuse=reuse)
     summary = summarise_bbs(result, time.perf_counter() - start)
     summary["run_folder"] = folder.as_posix()
     write_history(folder, result)

@@ -52,6 +52,8 @@ from batball.materials.foam import FoamTable
 from batball.numerics import FASTMATH
 
 IN = 0.0254  # m, for messages
+#: The fit's dynamic relaxation scales velocities by this each cycle (LS-DYNA's DRFCTR default).
+RELAX_FACTOR = 0.995
 
 
 @dataclass(frozen=True)
@@ -404,7 +406,8 @@ class CoupledResult:
         n_steps, wall_seconds, phase_seconds: cost of the run.
         pivot_inertia: the lumped bat's MOI about the pivot [kg m^2]; ball_mass: [kg].
         prestress_kinetic_ratio: the relaxation's final over peak kinetic energy (NaN: none);
-        interference_pressure: mean insert-barrel pressure after it [Pa].
+        interference_pressure: mean insert-barrel pressure after it [Pa]; prestress_reused:
+            the relaxed fit was restored from a store, not relaxed in this run.
     """
 
     history: np.ndarray
@@ -416,6 +419,7 @@ class CoupledResult:
     ball_mass: float = 0.0
     prestress_kinetic_ratio: float = float("nan")
     interference_pressure: float = float("nan")
+    prestress_reused: bool = False
 
     def column(self, name: str) -> np.ndarray:
         """One history column by name."""
@@ -425,7 +429,7 @@ class CoupledResult:
 def relax_fit(pairs: Sequence[SegmentContact | ColumnContact], *, interference: float,
               ramp_steps: int, settle_steps: int, search_interval: int, points: np.ndarray,
               forces: Callable[[], np.ndarray], mass: np.ndarray, velocity: np.ndarray,
-              moving: np.ndarray, dt: float, factor: float = 0.995,
+              moving: np.ndarray, dt: float, factor: float = RELAX_FACTOR,
               history: list[float] | None = None) -> float:  # fmt: skip
     """Dynamic relaxation of an insert's fit (LS-DYNA ``*CONTROL_DYNAMIC_RELAXATION``, physics.md
     6.7), shared by the BBS test and the explicit barrel test: the ``pairs``' ignored initial
@@ -529,7 +533,7 @@ class CoupledSolver:
         return min(ball_dt, m.bat.stable_step)
 
     def relax_bat(self, *, interference: float, ramp_steps: int, settle_steps: int,
-                  factor: float = 0.995) -> float:  # fmt: skip
+                  factor: float = RELAX_FACTOR) -> float:  # fmt: skip
         """Dynamic relaxation of the bat alone before the impact (LS-DYNA
         ``*CONTROL_DYNAMIC_RELAXATION``, physics.md 6.7): the insert contacts' ignored initial
         overlap is reduced by ``interference`` [m] over ``ramp_steps`` (the fit is pressed in:

@@ -223,4 +223,8 @@ def test_an_interrupted_explicit_run_resumes_after_the_last_orientation_done(
     resumed, _ = run_explicit_barrel_test(spec, runs_dir=tmp_path, options=test,
                                           explicit=explicit)  # fmt: skip
     assert resumed["cycles"] == 7 + first["cycles"] // 2  # 0 deg read back, 90 deg run again
+    # the fit relaxed by the first run is restored (drdisp), and the squeeze from it is the same
+    assert not first["prestress_reused"] and resumed["prestress_reused"]
+    assert resumed["interference_pressure_psi"] == pytest.approx(
+        first["interference_pressure_psi"], rel=1e-12)
     assert resumed["preload_lbf"] == pytest.approx(first["preload_lbf"], rel=1e-12)
