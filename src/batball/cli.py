@@ -758,6 +758,10 @@ def add_bbs_parser(sub: Any) -> None:
     p.add_argument("--insert-friction", type=float, default=0.0,
                    help="Coulomb coefficient between insert and barrel during the impact "
                         "(default 0, as the seed; the fit is pressed frictionless)")  # fmt: skip
+    p.add_argument("--bat-damping", default="0 1/s",
+                   help="damping c of the bat's deformation relative to its rigid turn, "
+                        "e.g. '1000 1/s' (as LS-DYNA *DAMPING_RELATIVE; default 0: none, as "
+                        "the seed)")  # fmt: skip
     add_precision_option(p)
     add_store_options(p)
     p.set_defaults(handler=run_bbs_command)
@@ -784,6 +788,7 @@ def bbs_setup(args: argparse.Namespace) -> Any:
         end_time=parse_quantity(args.end_time, "time", field="end-time"),
         mass_scaling=mass_scaling_option(args.mass_scaling), precision=args.precision,
         insert_friction=args.insert_friction,
+        bat_damping=parse_quantity(args.bat_damping, "frequency", field="bat-damping"),
     )  # fmt: skip
 
 

@@ -103,6 +103,9 @@ class BbsSetup:
             fit is pressed frictionless; 0, the default, as the seed's contact).
         shell_hourglass_ratio: r of the bat shells' hourglass constants (LS-DYNA's default
             0.01; the barrel test's squeeze needs 1, docs/barrel.md).
+        bat_damping: damping of the bat's deformation relative to its pivot band, c [1/s]
+            (LS-DYNA ``*DAMPING_RELATIVE``; fraction of critical c / (4 pi f) at frequency f);
+            0, the default, as the seed (docs/bbs.md, "Bat damping").
     """
 
     speed: float = 110.0 * MPH
@@ -133,6 +136,7 @@ class BbsSetup:
     precision: str = "single"
     insert_friction: float = 0.0
     shell_hourglass_ratio: float = HOURGLASS_RATIO
+    bat_damping: float = 0.0
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.speed) and 0 < self.speed <= 100.0):
@@ -149,6 +153,8 @@ class BbsSetup:
         if not (np.isfinite(self.insert_friction) and 0.0 <= self.insert_friction <= 10.0):
             raise SpecError("insert_friction", self.insert_friction, "a coefficient 0 .. 10")
         check_hourglass_ratio("shell_hourglass_ratio", self.shell_hourglass_ratio)
+        if not (np.isfinite(self.bat_damping) and 0.0 <= self.bat_damping <= 1e5):
+            raise SpecError("bat_damping", f"{self.bat_damping:.4g} 1/s", "0 1/s .. 1e5 1/s")
         if not 0.01 * IN <= self.axial_size <= 2.0 * IN:
             raise SpecError("axial_size", f"{self.axial_size / IN:.4g} in", "0.01 in .. 2 in")
         if not 0.0 < self.pivot_band <= 3.0 * IN:
@@ -412,7 +418,8 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup, *, store: Path | None = None
                                search_interval=setup.search_interval,
                                separation_time=setup.separation_time,
                                precision=setup.precision,
-                               shell_hourglass_ratio=setup.shell_hourglass_ratio)  # fmt: skip
+                               shell_hourglass_ratio=setup.shell_hourglass_ratio,
+                               bat_damping=setup.bat_damping)  # fmt: skip
     solver = CoupledSolver(model.coupled, controls)
     inserts = model.coupled.contacts[model.coupled.ball_contacts :]
     ratio, pressure, reused = float("nan"), float("nan"), False

@@ -167,8 +167,10 @@ class CoupledModel:
 class CoupledControls:
     """Run controls: end time [s], TSSFAC, search interval [cycles], separation time [s] (stop
     once the ball-bat contact has been open this long), the energy run-away limit, the
-    precision of the ball's hex kernel ("double" or "single"; ``ExplicitControls.precision``)
-    and the hourglass ratio r of the bat's shells (LS-DYNA's default 0.01)."""
+    precision of the ball's hex kernel ("double" or "single"; ``ExplicitControls.precision``),
+    the hourglass ratio r of the bat's shells (LS-DYNA's default 0.01) and the bat's damping
+    relative to its pivot band, c [1/s] (``*DAMPING_RELATIVE``, :func:`advance_bat`; 0: none,
+    as the seed)."""
 
     end_time: float = 2e-3
     time_step_scale: float = 0.9
@@ -177,6 +179,7 @@ class CoupledControls:
     max_energy_error: float = 0.2
     precision: str = "double"
     shell_hourglass_ratio: float = HOURGLASS_RATIO
+    bat_damping: float = 0.0
 
     def __post_init__(self) -> None:
         check_precision(self.precision)
@@ -189,7 +192,7 @@ PEAK_SMOOTHING = 0.01e-3
 HISTORY_COLUMNS = (
     "time_s", "contact_force_n", "ball_vx", "ball_vy", "ball_vz", "bat_omega_rad_s",
     "angular_momentum", "kinetic_j", "ball_internal_j", "ball_hourglass_j",
-    "ball_bulk_viscosity_j", "bat_internal_j", "contact_j", "balance_error_j",
+    "ball_bulk_viscosity_j", "bat_internal_j", "contact_j", "bat_damping_j", "balance_error_j",
     "ball_nodes_in_contact", "insert_nodes_in_contact",
 )  # fmt: skip
 
@@ -327,6 +330,7 @@ def advance_bat(
     pivot: np.ndarray,
     inertia: float,
     omega: np.ndarray,
+    damping: float,
     half: float,
     dt_old: float,
     dt_new: float,
@@ -334,11 +338,21 @@ def advance_bat(
 ) -> None:
     """The bat's update (free nodes by central differences, the pivot band as a rigid body
     turning about the axis) with its bookkeeping in one pass: ``forces`` (n, 6) internal forces
-    on the nodes, ``contact`` (n, 3), ``moving`` (n,) False on the band; ``out`` (4,) receives
+    on the nodes, ``contact`` (n, 3), ``moving`` (n,) False on the band; ``out`` (5,) receives
     the work of the internal forces and of the contact forces over the step centred on this
-    cycle, the kinetic energy and the angular momentum about the pivot axis (at the new
-    positions). The band: omega += h T / I_band with T the torque of its nodes' forces about the
-    axis, then every band node moves with omega e_z x r (its rotation rate omega e_z)."""
+    cycle, the kinetic energy, the angular momentum about the pivot axis (at the new
+    positions) and the work of the damping. The band: omega += h T / I_band with T the torque
+    of its nodes' forces about the axis, then every band node moves with omega e_z x r (its
+    rotation rate omega e_z).
+
+    ``damping`` c [1/s] damps the bat's deformation, as LS-DYNA's ``*DAMPING_RELATIVE`` does
+    relative to a rigid body: each free node feels -c m (v - v_r), v_r its velocity in the free
+    nodes' mean rigid turn about the axis (omega_r e_z x r, rotation rate omega_r e_z, omega_r
+    their angular momentum over their MOI), from the velocities at the half step before. The
+    damping forces then have no net torque about the pivot (the angular momentum is kept)
+    and take energy out of the deformation only, at a fraction of critical c / (2 omega_i) in
+    mode i. (Damping relative to the small pivot band instead, with the band taking the
+    reaction, is unstable at the shells' step.)"""
     out[:] = 0.0
     torque = 0.0
     for i in range(band.shape[0]):
@@ -349,6 +363,17 @@ def advance_bat(
         torque += rx * fy - ry * fx + forces[n, 5]
     omega[0] += half * torque / inertia
     w = omega[0]
+    w_rigid = 0.0
+    if damping > 0.0:
+        momentum, moi = 0.0, 0.0
+        for n in range(forces.shape[0]):
+            if moving[n]:
+                rx = points[n, 0] - pivot[0]
+                ry = points[n, 1] - pivot[1]
+                momentum += mass[n, 0] * (rx * velocity[n, 1] - ry * velocity[n, 0]) \
+                    + mass[n, 5] * velocity[n, 5]
+                moi += mass[n, 0] * (rx * rx + ry * ry) + mass[n, 5]
+        w_rigid = momentum / moi
     for n in range(forces.shape[0]):
         rx = points[n, 0] - pivot[0]
         ry = points[n, 1] - pivot[1]
@@ -356,7 +381,13 @@ def advance_bat(
             v_old = velocity[n, k]
             f_contact = contact[n, k] if k < 3 else 0.0
             if moving[n]:
-                v = v_old + half * (forces[n, k] + f_contact) / mass[n, k]
+                f_damping = 0.0
+                if damping > 0.0:
+                    rigid = -w_rigid * ry if k == 0 else w_rigid * rx if k == 1 else \
+                        w_rigid if k == 5 else 0.0
+                    f_damping = -damping * mass[n, k] * (v_old - rigid)
+                v = v_old + half * (forces[n, k] + f_contact + f_damping) / mass[n, k]
+                out[4] += f_damping * 0.5 * (v_old * dt_old + v * dt_new)
             elif k == 0:
                 v = -w * ry
             elif k == 1:
@@ -476,7 +507,7 @@ class CoupledSolver:
         self.bat_velocity[:, :3] = model.velocity[:n_bat]
         self.ball_total_mass = float(model.ball.mass.sum())
         self.ball_sums = np.zeros(7)  # advance_ball's bookkeeping
-        self.bat_sums = np.zeros(4)  # advance_bat's
+        self.bat_sums = np.zeros(5)  # advance_bat's
         self.ball_state = BallState.initial(model.ball, controls.precision)
         self.shell_state = model.shell_state
         self.ball_forces = np.zeros_like(self.ball_velocity)
@@ -494,7 +525,8 @@ class CoupledSolver:
         self.band_inertia = np.inf if model.bat.fixed else band_inertia(model)
         self.omega = np.zeros(1)
         self.relax_history: list[float] = []  # bat kinetic energy per relaxation cycle [J]
-        self.energies = np.zeros(5)  # ball internal, hourglass, bulk viscosity; bat; contact
+        self.energies = np.zeros(6)  # ball internal, hourglass, bulk viscosity; bat; contact;
+        # the bat's damping (dissipated)
         self.dt = 0.0
         self.time = 0.0
         self.step = 0
@@ -592,7 +624,7 @@ class CoupledSolver:
 
     def cycle(self, row: np.ndarray) -> bool:
         """One explicit cycle; writes the history row; returns whether the ball touches the bat."""
-        m, n_bat = self.model, self.model.n_bat
+        m, n_bat, c = self.model, self.model.n_bat, self.controls
         dt_old = self.dt
         dt_new = self.element_forces()
         ball_touching, insert_touching = self.contact()
@@ -605,9 +637,11 @@ class CoupledSolver:
                      ball)  # fmt: skip
         advance_bat(self.bat_forces, self.contact_forces[:n_bat], m.bat.mass, self.bat_velocity,
                     self.bat_points, self.bat_moving, m.bat.band, m.bat.pivot,
-                    self.band_inertia, self.omega, half, dt_old, dt_new, bat)  # fmt: skip
+                    self.band_inertia, self.omega, 0.0 if m.bat.rigid else c.bat_damping, half,
+                    dt_old, dt_new, bat)  # fmt: skip
         if not m.bat.rigid:
             self.energies[3] -= bat[0]
+            self.energies[5] -= bat[4]
         self.energies[4] -= ball[0] + bat[1]
         self.write_row(row, ball_touching, insert_touching)
         self.time += dt_new
