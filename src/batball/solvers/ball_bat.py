@@ -331,6 +331,7 @@ def advance_bat(
     inertia: float,
     omega: np.ndarray,
     damping: float,
+    damping_forces: np.ndarray,
     half: float,
     dt_old: float,
     dt_new: float,
@@ -352,7 +353,9 @@ def advance_bat(
     damping forces then have no net torque about the pivot (the angular momentum is kept)
     and take energy out of the deformation only, at a fraction of critical c / (2 omega_i) in
     mode i. (Damping relative to the small pivot band instead, with the band taking the
-    reaction, is unstable at the shells' step.)"""
+    reaction, is unstable at the shells' step.) With c > 0 the damping forces are added to
+    ``forces`` (in place) and kept in ``damping_forces`` (n, 6), so that the undamped update
+    runs the same loop as without."""
     out[:] = 0.0
     torque = 0.0
     for i in range(band.shape[0]):
@@ -363,17 +366,9 @@ def advance_bat(
         torque += rx * fy - ry * fx + forces[n, 5]
     omega[0] += half * torque / inertia
     w = omega[0]
-    w_rigid = 0.0
     if damping > 0.0:
-        momentum, moi = 0.0, 0.0
-        for n in range(forces.shape[0]):
-            if moving[n]:
-                rx = points[n, 0] - pivot[0]
-                ry = points[n, 1] - pivot[1]
-                momentum += mass[n, 0] * (rx * velocity[n, 1] - ry * velocity[n, 0]) \
-                    + mass[n, 5] * velocity[n, 5]
-                moi += mass[n, 0] * (rx * rx + ry * ry) + mass[n, 5]
-        w_rigid = momentum / moi
+        add_relative_damping(forces, mass, velocity, points, moving, pivot, damping,
+                             damping_forces)  # fmt: skip
     for n in range(forces.shape[0]):
         rx = points[n, 0] - pivot[0]
         ry = points[n, 1] - pivot[1]
@@ -381,13 +376,7 @@ def advance_bat(
             v_old = velocity[n, k]
             f_contact = contact[n, k] if k < 3 else 0.0
             if moving[n]:
-                f_damping = 0.0
-                if damping > 0.0:
-                    rigid = -w_rigid * ry if k == 0 else w_rigid * rx if k == 1 else \
-                        w_rigid if k == 5 else 0.0
-                    f_damping = -damping * mass[n, k] * (v_old - rigid)
-                v = v_old + half * (forces[n, k] + f_contact + f_damping) / mass[n, k]
-                out[4] += f_damping * 0.5 * (v_old * dt_old + v * dt_new)
+                v = v_old + half * (forces[n, k] + f_contact) / mass[n, k]
             elif k == 0:
                 v = -w * ry
             elif k == 1:
@@ -405,6 +394,42 @@ def advance_bat(
         ry = points[n, 1] - pivot[1]
         out[3] += mass[n, 0] * (rx * velocity[n, 1] - ry * velocity[n, 0])
         out[3] += mass[n, 5] * velocity[n, 5]
+    if damping > 0.0:  # the damping's share of the work booked with the internal forces
+        for n in range(forces.shape[0]):
+            if moving[n]:
+                for k in range(6):
+                    v = velocity[n, k]
+                    f_contact = contact[n, k] if k < 3 else 0.0
+                    v_old = v - half * (forces[n, k] + f_contact) / mass[n, k]
+                    work = damping_forces[n, k] * 0.5 * (v_old * dt_old + v * dt_new)
+                    out[4] += work
+                    out[0] -= work
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def add_relative_damping(forces: np.ndarray, mass: np.ndarray, velocity: np.ndarray,
+                         points: np.ndarray, moving: np.ndarray, pivot: np.ndarray,
+                         damping: float, damping_forces: np.ndarray) -> None:  # fmt: skip
+    """-c m (v - v_r) on each free node into ``damping_forces`` and added to ``forces``, v_r
+    the free nodes' mean rigid turn about the pivot axis (:func:`advance_bat`)."""
+    momentum, moi = 0.0, 0.0
+    for n in range(forces.shape[0]):
+        if moving[n]:
+            rx = points[n, 0] - pivot[0]
+            ry = points[n, 1] - pivot[1]
+            momentum += mass[n, 0] * (rx * velocity[n, 1] - ry * velocity[n, 0]) \
+                + mass[n, 5] * velocity[n, 5]
+            moi += mass[n, 0] * (rx * rx + ry * ry) + mass[n, 5]
+    w_rigid = momentum / moi
+    for n in range(forces.shape[0]):
+        if moving[n]:
+            rx = points[n, 0] - pivot[0]
+            ry = points[n, 1] - pivot[1]
+            for k in range(6):
+                rigid = -w_rigid * ry if k == 0 else w_rigid * rx if k == 1 else \
+                    w_rigid if k == 5 else 0.0
+                damping_forces[n, k] = -damping * mass[n, k] * (velocity[n, k] - rigid)
+                forces[n, k] += damping_forces[n, k]
 
 
 def band_inertia(model: CoupledModel) -> float:
@@ -512,6 +537,7 @@ class CoupledSolver:
         self.shell_state = model.shell_state
         self.ball_forces = np.zeros_like(self.ball_velocity)
         self.bat_forces = np.zeros((n_bat, 6))
+        self.damping_forces = np.zeros((n_bat, 6))  # advance_bat's scratch
         self.bat_shells = ShellForces(model.bat, self.shell_state,
                                       hourglass_ratio=controls.shell_hourglass_ratio)  # fmt: skip
         self.contact_forces = np.zeros_like(self.points)
@@ -637,8 +663,8 @@ class CoupledSolver:
                      ball)  # fmt: skip
         advance_bat(self.bat_forces, self.contact_forces[:n_bat], m.bat.mass, self.bat_velocity,
                     self.bat_points, self.bat_moving, m.bat.band, m.bat.pivot,
-                    self.band_inertia, self.omega, 0.0 if m.bat.rigid else c.bat_damping, half,
-                    dt_old, dt_new, bat)  # fmt: skip
+                    self.band_inertia, self.omega, 0.0 if m.bat.rigid else c.bat_damping,
+                    self.damping_forces, half, dt_old, dt_new, bat)  # fmt: skip
         if not m.bat.rigid:
             self.energies[3] -= bat[0]
             self.energies[5] -= bat[4]

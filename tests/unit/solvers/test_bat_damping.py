@@ -28,8 +28,8 @@ def step(bat: dict, velocity: np.ndarray, omega: np.ndarray, damping: float) -> 
     out = np.zeros(5)
     n = velocity.shape[0]
     advance_bat(np.zeros((n, 6)), np.zeros((n, 3)), bat["mass"], velocity, bat["points"],
-                bat["moving"], bat["band"], bat["pivot"], 1.0, omega, damping, DT, DT, DT,
-                out)  # fmt: skip
+                bat["moving"], bat["band"], bat["pivot"], 1.0, omega, damping, np.zeros((n, 6)),
+                DT, DT, DT, out)  # fmt: skip
     return out
 
 
