@@ -824,6 +824,9 @@ def describe_bbs(s: dict[str, Any]) -> str:
         f"{s['k']:.4f}",
         f"  peak force {s['peak_force_lbf']:.0f} lbf, contact {s['contact_time_ms']:.3f} ms, "
         f"energy balance error {100 * s['energy_balance_error']:.2f} %",
+        *([f"  insert fit {s['interference_pressure_psi']:.1f} psi, "
+           + ("restored from the store" if s.get("prestress_reused") else "relaxed in this run")]
+          if s.get("interference_pressure_psi") is not None else []),
         f"  {s['n_shells']} shells + {s['n_hexes']} hexes, {s['n_steps']} steps, "
         f"{s['wall_seconds']:.1f} s, results in {s['run_folder']}",
     ])  # fmt: skip

@@ -79,3 +79,13 @@ def test_setup_rejects_a_bad_mass_scaling(value: object) -> None:
 def test_setup_rejects_a_bad_shell_hourglass_ratio(ratio: float) -> None:
     with pytest.raises(SpecError, match="shell_hourglass_ratio"):
         BbsSetup(shell_hourglass_ratio=ratio)
+
+
+def test_a_second_speed_restores_the_stored_fit(tmp_path: Path, capsys) -> None:
+    base = ["bbs", "--ball", "type2", *COARSE, "--runs-dir", str(tmp_path)]
+    first = json.loads(run_cli([*base, "--speed", "95 mph", "--json"], capsys)[1])
+    assert first["prestress_reused"] is False
+    assert len(list(tmp_path.glob("fit-*"))) == 1
+    code, out, _ = run_cli([*base, "--speed", "110 mph"], capsys)
+    assert code == 0
+    assert "restored from the store" in out
