@@ -394,16 +394,29 @@ def advance_bat(
         ry = points[n, 1] - pivot[1]
         out[3] += mass[n, 0] * (rx * velocity[n, 1] - ry * velocity[n, 0])
         out[3] += mass[n, 5] * velocity[n, 5]
-    if damping > 0.0:  # the damping's share of the work booked with the internal forces
-        for n in range(forces.shape[0]):
-            if moving[n]:
-                for k in range(6):
-                    v = velocity[n, k]
-                    f_contact = contact[n, k] if k < 3 else 0.0
-                    v_old = v - half * (forces[n, k] + f_contact) / mass[n, k]
-                    work = damping_forces[n, k] * 0.5 * (v_old * dt_old + v * dt_new)
-                    out[4] += work
-                    out[0] -= work
+    if damping > 0.0:
+        split_damping_work(forces, contact, mass, velocity, moving, damping_forces, half, dt_old,
+                           dt_new, out)  # fmt: skip
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def split_damping_work(
+    forces: np.ndarray, contact: np.ndarray, mass: np.ndarray, velocity: np.ndarray,
+    moving: np.ndarray, damping_forces: np.ndarray, half: float, dt_old: float, dt_new: float,
+    out: np.ndarray,
+) -> None:  # fmt: skip
+    """Move the damping's work out of the internal forces' (``out[0]``, which the update booked
+    with the damping forces inside ``forces``) into ``out[4]``; each free dof's velocity
+    before the step is recovered from the new one and the step's forces."""
+    for n in range(forces.shape[0]):
+        if moving[n]:
+            for k in range(6):
+                v = velocity[n, k]
+                f_contact = contact[n, k] if k < 3 else 0.0
+                v_old = v - half * (forces[n, k] + f_contact) / mass[n, k]
+                work = damping_forces[n, k] * 0.5 * (v_old * dt_old + v * dt_new)
+                out[4] += work
+                out[0] -= work
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
