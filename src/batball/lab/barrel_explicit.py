@@ -236,7 +236,7 @@ def press_fit(state: ExplicitBat, options: ExplicitBarrelOptions, *, store: Path
     relaxation = FitRelaxation(interference, ramp, settle, setup.search_interval,
                                state.bat.stable_step, RELAX_FACTOR, options.hourglass_ratio)
     inputs = fit_inputs(state.bat, state.reference, [state.fit], moving, relaxation)
-    state.prestress_kinetic_ratio, _, state.fit_reused = obtain_fit(
+    state.prestress_kinetic_ratio, state.fit_reused = obtain_fit(
         store, inputs, relax, state.points, state.shells.state, [state.fit], reuse=reuse)
     state.fit_pressure = fit_pressure(state.fit, state.points, state.reference,
                                       state.insert_cells)  # fmt: skip

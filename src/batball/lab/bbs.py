@@ -103,9 +103,10 @@ class BbsSetup:
             fit is pressed frictionless; 0, the default, as the seed's contact).
         shell_hourglass_ratio: r of the bat shells' hourglass constants (LS-DYNA's default
             0.01; the barrel test's squeeze needs 1, docs/barrel.md).
-        bat_damping: damping of the bat's deformation relative to its pivot band, c [1/s]
-            (LS-DYNA ``*DAMPING_RELATIVE``; fraction of critical c / (4 pi f) at frequency f);
-            0, the default, as the seed (docs/bbs.md, "Bat damping").
+        bat_damping: damping of the bat's deformation relative to its own rigid turn about
+            the pivot, c [1/s] (the form of LS-DYNA's ``*DAMPING_RELATIVE``,
+            :func:`batball.solvers.ball_bat.advance_bat`; fraction of critical c / (4 pi f) at
+            frequency f); 0, the default, as the seed (docs/bbs.md, "(b) tested").
     """
 
     speed: float = 110.0 * MPH
@@ -430,7 +431,7 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup, *, store: Path | None = None
                                    bat.stable_step, RELAX_FACTOR,
                                    setup.shell_hourglass_ratio)  # fmt: skip
         inputs = fit_inputs(bat, model.bat_mesh.points, inserts, solver.bat_moving, relaxation)
-        ratio, _, reused = obtain_fit(
+        ratio, reused = obtain_fit(
             store, inputs,
             lambda: solver.relax_bat(interference=model.interference, ramp_steps=ramp,
                                      settle_steps=settle, factor=RELAX_FACTOR),

@@ -105,13 +105,13 @@ def restore_fit(arrays: dict[str, np.ndarray], points: np.ndarray,
 
 def obtain_fit(store: Path | None, inputs: dict[str, object], relax: Callable[[], float],
                points: np.ndarray, shell_state: ShellForceState, pairs: Sequence[Pair], *,
-               reuse: bool = True) -> tuple[float, Path | None, bool]:  # fmt: skip
+               reuse: bool = True) -> tuple[float, bool]:  # fmt: skip
     """The relaxed fit in place: restored from ``store``'s folder for ``inputs`` when ``reuse``
     and it is there and fits, else ``relax()`` (which relaxes in place and returns the kinetic
     energy ratio) and stored. ``store`` None: relax, store nothing.
 
     Returns:
-        (the relaxation's final over peak kinetic energy, the folder or None, whether reused).
+        (the relaxation's final over peak kinetic energy, whether it was restored).
     """
     folder = run_folder(store, "fit", inputs) if store is not None else None
     if folder is not None and reuse:
@@ -119,7 +119,7 @@ def obtain_fit(store: Path | None, inputs: dict[str, object], relax: Callable[[]
         if arrays is not None:
             stored = arrays.pop("kinetic_ratio", None)
             if stored is not None and restore_fit(arrays, points, shell_state, pairs):
-                return float(stored), folder, True
+                return float(stored), True
     start = time.perf_counter()
     ratio = relax()
     if folder is not None:
@@ -128,4 +128,4 @@ def obtain_fit(store: Path | None, inputs: dict[str, object], relax: Callable[[]
         write_arrays_atomic(folder / FIT_FILE, arrays)
         write_summary(folder, {"test": "fit", "kinetic_ratio": ratio,
                                "wall_seconds": time.perf_counter() - start})  # fmt: skip
-    return ratio, folder, False
+    return ratio, False
