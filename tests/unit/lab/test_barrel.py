@@ -129,6 +129,16 @@ def test_cli_refuses_a_zero_ramp(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert "ramp-steps" in capsys.readouterr().err
 
 
+def test_cli_hourglass_ratio_belongs_to_the_explicit_solver(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    base = ["barrel", "--runs-dir", str(tmp_path), "--hourglass-ratio"]
+    assert main([*base, "0.5"]) == 2  # the static MITC4 shells have no hourglass control
+    assert "hourglass-ratio" in capsys.readouterr().err
+    assert main([*base, "5", "--solver", "explicit"]) == 2  # beyond r = 1 (unstable at 10)
+    assert "hourglass_ratio" in capsys.readouterr().err
+
+
 def test_condensed_compression_equals_the_active_set_iteration(model, prestress) -> None:
     """The condensed solve (one factorisation, a small exact LCP per level) and the plain
     active-set iteration over every gap reach the same penalty solution, within 1e-6 of the
@@ -199,6 +209,11 @@ def test_cli_runs_the_explicit_squeeze_into_its_own_folder(
         assert (folder / name).is_file()
     assert main(base) == 0  # the stored run, told in words with the solver named
     assert "solver: explicit" in capsys.readouterr().out
+    # a weaker hourglass control softens the one-point shells under the platens (docs/barrel.md)
+    assert main([*base, "--hourglass-ratio", "0.01", "--json"]) == 0
+    soft = json.loads(capsys.readouterr().out)
+    assert soft["run_folder"] != summary["run_folder"]
+    assert soft["preload_lbf"] < summary["preload_lbf"]
 
 
 def test_an_interrupted_explicit_run_resumes_after_the_last_orientation_done(

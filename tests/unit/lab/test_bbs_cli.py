@@ -44,7 +44,8 @@ def test_bbs_json_has_the_keys_and_writes_the_run_folder(tmp_path: Path, capsys)
     ("option", "value", "field"),
     [("--speed", "300 mph", "speed"), ("--pivot-band", "0 in", "pivot_band"),
      ("--speed", "95 lbf", "speed"), ("--insert-friction", "-0.2", "insert_friction"),
-     ("--bat-damping", "1000 mph", "bat-damping"), ("--bat-damping", "-5 1/s", "bat_damping")],
+     ("--bat-damping", "1000 mph", "bat-damping"), ("--bat-damping", "-5 1/s", "bat_damping"),
+     ("--hourglass-ratio", "2", "shell_hourglass_ratio")],
 )  # fmt: skip
 def test_bad_input_names_the_field(tmp_path: Path, capsys, option: str, value: str,
                                    field: str) -> None:  # fmt: skip
