@@ -250,7 +250,6 @@ class Platens:
     penalties. The kernel's time argument is the commanded travel (each platen's "velocity" is
     its displacement per unit travel, half the travel each)."""
 
-    node_ids: np.ndarray  # into the compact candidate list
     nodes: np.ndarray  # global ids of the candidates
     stiffness: np.ndarray
     offsets: np.ndarray
@@ -295,8 +294,8 @@ def make_platens(state: ExplicitBat, test: BarrelTestOptions, orientation_deg: f
         offsets.append(offsets[-1] + mine.size)
     all_nodes = np.concatenate(nodes)
     stiffness = contact_scale * state.bat.mass[all_nodes, 0] / dt**2
-    return Platens(np.arange(all_nodes.size), all_nodes, stiffness, np.array(offsets),
-                   np.array(kinds), np.array(params), load)  # fmt: skip
+    return Platens(all_nodes, stiffness, np.array(offsets), np.array(kinds), np.array(params),
+                   load)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -347,6 +346,7 @@ def squeeze(state: ExplicitBat, test: BarrelTestOptions, options: ExplicitBarrel
     ratio, drift, error = np.zeros(n), np.zeros(n), np.zeros(n)
     filtered, commanded, cycles = 0.0, 0.0, 0
     blend = min(1.0, dt / options.feedback_time)
+    candidates = np.arange(platens.nodes.size)  # the kernel's node list, into platens.nodes
     previous = 0.0
     for level, target in enumerate(travels):
         move = int(np.ceil((target - previous) / (options.travel_rate * dt)))
@@ -361,7 +361,7 @@ def squeeze(state: ExplicitBat, test: BarrelTestOptions, options: ExplicitBarrel
             state.forces(forces, contact)
             platen_forces[:] = 0.0
             add_rigid_contact_forces(surface_points(state, platens.nodes), commanded,
-                                     platens.node_ids, platens.stiffness, platens.offsets,
+                                     candidates, platens.stiffness, platens.offsets,
                                      platens.kinds, platens.params, platen_forces, reaction,
                                      penetration)  # fmt: skip
             forces[platens.nodes, :3] += platen_forces

@@ -80,21 +80,26 @@ def pair_state(pair: Pair) -> dict[str, np.ndarray]:
     return state
 
 
+def live_fit_arrays(points: np.ndarray, shell_state: ShellForceState,
+                    pairs: Sequence[Pair]) -> dict[str, np.ndarray]:  # fmt: skip
+    """The arrays that hold the relaxed state, by name (the arrays themselves, not copies):
+    ``points`` are the bat's nodes (n_bat, 3)."""
+    arrays = {"points": points, "shell_history": shell_state.history}
+    for i, pair in enumerate(pairs):
+        arrays |= {f"pair{i}_{name}": a for name, a in pair_state(pair).items()}
+    return arrays
+
+
 def capture_fit(points: np.ndarray, shell_state: ShellForceState,
                 pairs: Sequence[Pair]) -> dict[str, np.ndarray]:  # fmt: skip
-    """The relaxed state as named arrays (copies): ``points`` are the bat's nodes (n_bat, 3)."""
-    arrays = {"points": points.copy(), "shell_history": shell_state.history.copy()}
-    for i, pair in enumerate(pairs):
-        arrays |= {f"pair{i}_{name}": a.copy() for name, a in pair_state(pair).items()}
-    return arrays
+    """The relaxed state as named arrays (copies of :func:`live_fit_arrays`)."""
+    return {k: a.copy() for k, a in live_fit_arrays(points, shell_state, pairs).items()}
 
 
 def restore_fit(arrays: dict[str, np.ndarray], points: np.ndarray,
                 shell_state: ShellForceState, pairs: Sequence[Pair]) -> bool:  # fmt: skip
     """Put a captured state back in place; False (nothing changed) if it does not fit."""
-    wanted = {"points": points, "shell_history": shell_state.history}
-    for i, pair in enumerate(pairs):
-        wanted |= {f"pair{i}_{name}": a for name, a in pair_state(pair).items()}
+    wanted = live_fit_arrays(points, shell_state, pairs)
     if set(arrays) != set(wanted) or any(arrays[k].shape != a.shape or arrays[k].dtype != a.dtype
                                          for k, a in wanted.items()):  # fmt: skip
         return False

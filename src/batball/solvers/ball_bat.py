@@ -168,9 +168,9 @@ class CoupledControls:
     """Run controls: end time [s], TSSFAC, search interval [cycles], separation time [s] (stop
     once the ball-bat contact has been open this long), the energy run-away limit, the
     precision of the ball's hex kernel ("double" or "single"; ``ExplicitControls.precision``),
-    the hourglass ratio r of the bat's shells (LS-DYNA's default 0.01) and the bat's damping
-    relative to its pivot band, c [1/s] (``*DAMPING_RELATIVE``, :func:`advance_bat`; 0: none,
-    as the seed)."""
+    the hourglass ratio r of the bat's shells (LS-DYNA's default 0.01) and the damping of the
+    bat's deformation relative to its own rigid turn about the pivot, c [1/s] (the form of
+    ``*DAMPING_RELATIVE``, :func:`advance_bat`; 0: none, as the seed)."""
 
     end_time: float = 2e-3
     time_step_scale: float = 0.9
