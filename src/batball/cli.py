@@ -550,14 +550,21 @@ def add_barrel_parser(sub: Any) -> None:
         choices=("static", "explicit"),
         default="static",
         help="static: linear MITC4 shells, penalty contact, small displacements (default); "
-        "explicit: the BBS test's Belytschko-Tsay shells relaxed at each travel, geometrically "
-        "nonlinear (docs/barrel.md, 'Geometric nonlinearity')",
+        "explicit: shells relaxed at each travel, geometrically nonlinear (docs/barrel.md, "
+        "'Geometric nonlinearity')",
+    )
+    p.add_argument(
+        "--shell",
+        choices=("mitc4", "bt"),
+        default=None,
+        help="with --solver explicit: mitc4, the statics' MITC4 shells made co-rotational "
+        "(default), or bt, the BBS test's one-point Belytschko-Tsay shells",
     )
     p.add_argument(
         "--hourglass-ratio",
         type=float,
         default=None,
-        help="with --solver explicit: hourglass ratio r of the one-point shells, 0 < r <= 1 "
+        help="with --shell bt: hourglass ratio r of the one-point shells, 0 < r <= 1 "
         "(default 1; LS-DYNA's 0.01 is 14-17 %% softer under the platens, docs/barrel.md)",
     )
     add_store_options(p)
@@ -579,17 +586,23 @@ def run_barrel_command(args: argparse.Namespace) -> int:
         from batball.lab.barrel_explicit import ExplicitBarrelOptions
         from batball.lab.barrel_run import run_explicit_barrel_test
 
+        shell = args.shell or "mitc4"
+        if args.hourglass_ratio is not None and shell != "bt":
+            raise SpecError("hourglass-ratio", args.hourglass_ratio,
+                            "only with --shell bt (MITC4 shells have none)")  # fmt: skip
         ratio = {} if args.hourglass_ratio is None else {"hourglass_ratio": args.hourglass_ratio}
         explicit = ExplicitBarrelOptions(circumferential=options["circumferential"],
-                                         axial_size=options["axial_size"], **ratio)  # fmt: skip
+                                         axial_size=options["axial_size"], shell=shell,
+                                         **ratio)  # fmt: skip
         summary, _ = run_explicit_barrel_test(
             spec, runs_dir=args.runs_dir, options=test, explicit=explicit,
             reuse=not args.no_reuse,
         )  # fmt: skip
     else:
-        if args.hourglass_ratio is not None:
-            raise SpecError("hourglass-ratio", args.hourglass_ratio,
-                            "only with --solver explicit (MITC4 shells have none)")  # fmt: skip
+        if args.hourglass_ratio is not None or args.shell is not None:
+            name, value = ("shell", args.shell) if args.shell else ("hourglass-ratio",
+                                                                    args.hourglass_ratio)
+            raise SpecError(name, value, "only with --solver explicit")  # fmt: skip
         summary, _ = run_barrel_test(
             spec, runs_dir=args.runs_dir, reuse=not args.no_reuse, ramp_steps=args.ramp_steps,
             circumferential=options["circumferential"], axial_size=options["axial_size"],

@@ -5,16 +5,22 @@ Coarse bat (16 quads around, 0.4-in rings) so that a squeeze costs seconds. Expe
 
 * **Small travel = the linear static test.** At 0.005 in geometric nonlinearity is negligible
   (CalculiX's NLGEOM moves the double-wall tube's force by 1.1 % at 0.01 in, docs/barrel.md), so
-  the explicit Belytschko-Tsay shells, relaxed, must give the static MITC4 force on the same mesh
-  (42.7 lbf) up to the two elements' discretisation difference: 3.4 % for a smooth bending field
-  on an 8 x 8 plate (test_shell_bt), so 6 % on these 0.4 x 0.44-in cells with the platen's
-  concentrated load. Measured: -4.2 % with hourglass ratio 1 (the test's default); with LS-DYNA's
-  0.01 the one-point shells' hourglass patterns under the platen take 17 % off (docs/barrel.md).
+  the explicit squeeze, relaxed, must give the static MITC4 force on the same mesh (42.7 lbf):
+  - with the co-rotational MITC4 shells (the default) the element is the statics' own, and
+    what is left are the contacts: the insert's penalty contact (SLSFAC 0.1) in series with the
+    walls, against the statics' stiff one (about 0.5 %, docs/barrel.md), and the reading's
+    settling (force drift up to 0.3 % over the window): 4 % allowed, measured -3.2 %;
+  - with the one-point Belytschko-Tsay shells, up to the two elements' discretisation
+    difference as well: 3.4 % for a smooth bending field on an 8 x 8 plate (test_shell_bt), so
+    6 % on these 0.4 x 0.44-in cells with the platen's concentrated load. Measured: -4.2 % with
+    hourglass ratio 1; with LS-DYNA's 0.01 the hourglass patterns under the platen take 17 %
+    off (docs/barrel.md).
 * **Geometric nonlinearity, sized by CalculiX.** CalculiX's NLGEOM / linear force on the
   double-wall tube falls from 0.989 at 0.01 in to 0.932 at 0.07 in (docs/barrel.md,
   benchmarks/ccx_barrel_nlgeom.py): 5.8 % of softening over the test's travel. The explicit
   force over the static one must fall between 0.005 and 0.07 in by 2-10 % (a different model:
-  the tube is 10 in of solids with its walls tied; measured 4.2 %). A linear solver gives 0.
+  the tube is 10 in of solids with its walls tied; measured 4.0 % with the MITC4 shells).
+  A linear solver gives 0.
 * **Symmetry.** The bat is axisymmetric and 16 around puts nodes under the platens at 0 and
   45 deg with the same mesh rotated by two cells: the same forces (measured 2e-12; 1e-6 allowed
   for round-off in the rotated geometry).
@@ -65,7 +71,7 @@ def static_forces(spec, protocol) -> np.ndarray:  # noqa: ANN001
 
 
 def explicit_forces(spec, protocol: BarrelTestOptions, angle: float,  # noqa: ANN001
-                    **changes: float) -> np.ndarray:  # fmt: skip
+                    **changes: float | str) -> np.ndarray:  # fmt: skip
     options = ExplicitBarrelOptions(circumferential=AROUND, axial_size=AXIAL, **changes)
     state = build_explicit_bat(spec, options)
     press_fit(state, options)
@@ -81,7 +87,13 @@ def explicit_0deg(spec, protocol) -> np.ndarray:  # noqa: ANN001
 
 
 def test_small_travel_gives_the_static_force(explicit_0deg, static_forces) -> None:  # noqa: ANN001
-    assert explicit_0deg[0] == pytest.approx(static_forces[0], rel=0.06)
+    assert explicit_0deg[0] == pytest.approx(static_forces[0], rel=0.04)
+
+
+def test_small_travel_on_the_bt_shells_gives_the_static_force(spec, protocol,  # noqa: ANN001
+                                                              static_forces) -> None:  # noqa: ANN001  # fmt: skip
+    one_point = explicit_forces(spec, protocol, 0.0, shell="bt", hourglass_ratio=1.0)
+    assert one_point[0] == pytest.approx(static_forces[0], rel=0.06)
 
 
 def test_large_travel_softens_as_calculix_nlgeom_says(explicit_0deg,  # noqa: ANN001
@@ -101,3 +113,5 @@ def test_bad_options_name_the_field() -> None:
         ExplicitBarrelOptions(hold_time=0.0)
     with pytest.raises(SpecError, match="circumferential"):
         ExplicitBarrelOptions(circumferential=20)
+    with pytest.raises(SpecError, match="shell"):
+        ExplicitBarrelOptions(shell="hughes-liu")

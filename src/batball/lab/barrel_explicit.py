@@ -3,17 +3,23 @@
 The static test of :mod:`batball.lab.barrel` is linear: small displacements, contact normals
 fixed at first touch. The platens' 0.07 in of travel on a 1.1-in radius is not small (CalculiX's
 NLGEOM takes 8.6 % off the final load of a double-wall tube, docs/barrel.md), so this module runs
-the same protocol on the bat of the batted-ball-speed test, whose Belytschko-Tsay shells
-(:mod:`batball.elements.shell_bt`) work in each element's current co-rotational frame with
-rate-form stresses: large rotations and the current geometry come with them, as in the seed's
-LS-DYNA model. The static answer is reached by dynamic relaxation (physics.md 6.7), the platens
-moved slowly and each travel level held until the bat stops moving.
+the same protocol on the bat of the batted-ball-speed test with shells that work in each
+element's current co-rotational frame, so that large rotations and the current geometry come
+with them, as in the seed's LS-DYNA model: by default the statics' own MITC4 element made
+co-rotational (:mod:`batball.elements.shell_corotational`), or the BBS test's one-point
+Belytschko-Tsay shells (:mod:`batball.elements.shell_bt`, ``shell="bt"``), whose hourglass
+control sets part of the answer under the platens' nearly point load (docs/barrel.md). The
+static answer is reached by dynamic relaxation (physics.md 6.7), the platens moved slowly and
+each travel level held until the bat stops moving.
 
 * **Bat and fit:** the shells, layered sections, lumped masses (selective mass scaling to the
   barrel's step: inertia is fictitious in a relaxation) and the insert's column contact of
   :func:`batball.lab.bbs.bat_part` and :func:`batball.lab.bbs.insert_barrel_contact`; the fit
   is pressed in first, frictionless, by the same ramp-and-settle as the BBS test. Optional
   Coulomb friction at the insert during the squeeze (:meth:`ColumnContact.start_friction`).
+  The MITC4 shells take the statics' section of the same laminates; the step stays the BT
+  shells' estimate, checked against the MITC4 shells' highest frequency
+  (:func:`batball.elements.shell_corotational.check_time_step`).
 * **Platens:** rigid half-cylinders (:class:`batball.contact.rigid.RigidCylinder`, 3.3 in) across
   the bat ``distance_from_cap`` from the end cap, touching the pre-stressed outer surface (the
   nodes' mid-surface pushed out to the spec's outer radius along their current radial
@@ -49,6 +55,8 @@ import numpy as np
 from batball.contact.columns import ColumnContact
 from batball.contact.rigid import RigidCylinder, add_rigid_contact_forces
 from batball.elements.shell_bt import initial_force_state
+from batball.elements.shell_corotational import SHELLS, CorotationalShellForces, check_time_step
+from batball.elements.shell_stiffness import shell_section
 from batball.errors import SimulationError, SpecError
 from batball.lab.barrel import (
     BarrelTestOptions,
@@ -68,6 +76,7 @@ from batball.lab.bbs import (
 )
 from batball.lab.fit_store import FitRelaxation, capture_fit, fit_inputs, obtain_fit, restore_fit
 from batball.lab.impact import ContactOptions
+from batball.lab.props import bat_laminates
 from batball.mesh.bat import outer_rings
 from batball.solvers.ball_bat import RELAX_FACTOR, BatPart, ShellForces, relax_fit
 from batball.specs.bat import BatSpec
@@ -89,7 +98,10 @@ class ExplicitBarrelOptions:
         mass_scaling: as :class:`batball.lab.bbs.BbsSetup` ("barrel", a step in s, or None).
         damping: mass-proportional damping of the relaxation [1/s] (module docs).
         fit_slsfac: SLSFAC of the insert's column contact (0.1, as the BBS test).
-        hourglass_ratio: r of the shells' hourglass constants (module docs).
+        hourglass_ratio: r of the BT shells' hourglass constants (module docs).
+        shell: the explicit element: "mitc4", the statics' MITC4 shell made co-rotational
+            (:mod:`batball.elements.shell_corotational`; no hourglass modes), or "bt", the BBS
+            test's Belytschko-Tsay shells with ``hourglass_ratio``.
     """
 
     circumferential: int = 48
@@ -103,9 +115,12 @@ class ExplicitBarrelOptions:
     damping: float = 1.0e4
     fit_slsfac: float = 0.1
     hourglass_ratio: float = 1.0
+    shell: str = "mitc4"
 
     def __post_init__(self) -> None:
         check_hourglass_ratio("hourglass_ratio", self.hourglass_ratio)
+        if self.shell not in SHELLS:
+            raise SpecError("shell", self.shell, " or ".join(SHELLS))
         for name in ("travel_rate", "hold_time", "contact_scale", "feedback_time", "damping",
                      "fit_slsfac"):
             value = getattr(self, name)
@@ -134,7 +149,7 @@ class ExplicitBat:
     insert_nodes: np.ndarray
     points: np.ndarray
     velocity: np.ndarray
-    shells: ShellForces
+    shells: ShellForces | CorotationalShellForces
     fit: ColumnContact
     surface_offset: np.ndarray  # spec outer radius minus each node's mid-surface radius [m]
     reference: np.ndarray  # the undeformed nodes [m]
@@ -174,8 +189,14 @@ def build_explicit_bat(spec: BatSpec, options: ExplicitBarrelOptions) -> Explici
     offset = np.asarray(spec.outer_radius(mesh.points[:, 0])) - radius
     points = mesh.points.copy()
     velocity = np.zeros((mesh.n_points, 6))
-    shells = ShellForces(bat, initial_force_state(bat.section),
-                         hourglass_ratio=options.hourglass_ratio)  # fmt: skip
+    shells: ShellForces | CorotationalShellForces
+    if options.shell == "mitc4":
+        shells = CorotationalShellForces(mesh.points, mesh.cells,
+                                         shell_section(*bat_laminates(spec, mesh)))  # fmt: skip
+        check_time_step(shells, bat.mass, bat.stable_step)
+    else:
+        shells = ShellForces(bat, initial_force_state(bat.section),
+                             hourglass_ratio=options.hourglass_ratio)  # fmt: skip
     return ExplicitBat(spec, bat, outer_rings(mesh).ravel(), mesh.point_sets["insert"], points,
                        velocity, shells, fit, offset, mesh.points,
                        mesh.cells[mesh.cell_sets["insert"]])  # fmt: skip
@@ -234,7 +255,8 @@ def press_fit(state: ExplicitBat, options: ExplicitBarrelOptions, *, store: Path
                          factor=RELAX_FACTOR)  # fmt: skip
 
     relaxation = FitRelaxation(interference, ramp, settle, setup.search_interval,
-                               state.bat.stable_step, RELAX_FACTOR, options.hourglass_ratio)
+                               state.bat.stable_step, RELAX_FACTOR, options.hourglass_ratio,
+                               options.shell)  # fmt: skip
     inputs = fit_inputs(state.bat, state.reference, [state.fit], moving, relaxation)
     state.prestress_kinetic_ratio, state.fit_reused = obtain_fit(
         store, inputs, relax, state.points, state.shells.state, [state.fit], reuse=reuse)

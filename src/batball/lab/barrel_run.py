@@ -328,6 +328,11 @@ def load_orientations(folder: Path) -> dict[float, ExplicitCurve]:
     return done
 
 
+#: How the explicit test's shells are named in its summary.
+EXPLICIT_SHELLS = {"mitc4": "co-rotational MITC4 shells",
+                   "bt": "Belytschko-Tsay shells (hourglass ratio {r:g})"}
+
+
 def run_explicit_barrel_test(spec: BatSpec, *, runs_dir: Path, options: BarrelTestOptions,
                              explicit: ExplicitBarrelOptions, reuse: bool = True,
                              ) -> tuple[dict[str, Any], Path]:  # fmt: skip
@@ -351,7 +356,10 @@ def run_explicit_barrel_test(spec: BatSpec, *, runs_dir: Path, options: BarrelTe
     curves = [r.curve for r in runs]
     summary = table2_summary(spec, curves, options)
     summary.update({
-        "solver": "explicit: Belytschko-Tsay shells, dynamic relaxation, geometrically nonlinear",
+        "solver": "explicit: "
+                  + EXPLICIT_SHELLS[explicit.shell].format(r=explicit.hourglass_ratio)
+                  + ", dynamic relaxation, geometrically nonlinear",
+        "shell": explicit.shell,
         "interference_pressure_psi": state.fit_pressure / PSI,
         "prestress_kinetic_ratio": state.prestress_kinetic_ratio,
         "prestress_reused": state.fit_reused,

@@ -13,8 +13,9 @@ controls (interference, cycles, damping factor, step, hourglass ratio), so a cha
 in the bat's model (a mass-scaling target set by a different ball, a mesh option, a ply)
 relaxes anew; the ball itself is not in the key, since the relaxation never moves it.
 
-What is stored is the bat's whole state after the relaxation: its nodes, the shells' stresses
-(the BT kernel's history, hourglass resultants included) and each insert pair's offsets and
+What is stored is the bat's whole state after the relaxation: its nodes, the shells' state
+(the BT kernel's stress history, hourglass resultants included, or the co-rotational MITC4
+shells' nodal rotations) and each insert pair's offsets and
 walking state. Velocities are zero after a relaxation. A restored run reproduces a fresh one to
 the last digit (tests/unit/lab/test_fit_store.py).
 """
@@ -32,6 +33,7 @@ from batball import __version__
 from batball.contact.columns import ColumnContact
 from batball.contact.segments import SegmentContact
 from batball.elements.shell_bt import ShellForceState
+from batball.elements.shell_corotational import CorotationalState
 from batball.io.store import (
     arrays_digest,
     load_stored_arrays,
@@ -43,6 +45,8 @@ from batball.solvers.ball_bat import BatPart
 
 FIT_FILE = "fit.npz"
 Pair = SegmentContact | ColumnContact
+#: The shells' state: the BT stresses, or the co-rotational MITC4 shells' nodal rotations.
+ShellState = ShellForceState | CorotationalState
 
 
 @dataclass(frozen=True)
@@ -56,6 +60,7 @@ class FitRelaxation:
     dt: float  # [s]
     factor: float
     hourglass_ratio: float
+    shell: str = "bt"  # the shell element ("bt" or "mitc4", lab.barrel_explicit.SHELLS)
 
 
 def fit_inputs(bat: BatPart, reference: np.ndarray, pairs: Sequence[Pair], moving: np.ndarray,
@@ -80,7 +85,7 @@ def pair_state(pair: Pair) -> dict[str, np.ndarray]:
     return state
 
 
-def live_fit_arrays(points: np.ndarray, shell_state: ShellForceState,
+def live_fit_arrays(points: np.ndarray, shell_state: ShellState,
                     pairs: Sequence[Pair]) -> dict[str, np.ndarray]:  # fmt: skip
     """The arrays that hold the relaxed state, by name (the arrays themselves, not copies):
     ``points`` are the bat's nodes (n_bat, 3)."""
@@ -90,14 +95,14 @@ def live_fit_arrays(points: np.ndarray, shell_state: ShellForceState,
     return arrays
 
 
-def capture_fit(points: np.ndarray, shell_state: ShellForceState,
+def capture_fit(points: np.ndarray, shell_state: ShellState,
                 pairs: Sequence[Pair]) -> dict[str, np.ndarray]:  # fmt: skip
     """The relaxed state as named arrays (copies of :func:`live_fit_arrays`)."""
     return {k: a.copy() for k, a in live_fit_arrays(points, shell_state, pairs).items()}
 
 
 def restore_fit(arrays: dict[str, np.ndarray], points: np.ndarray,
-                shell_state: ShellForceState, pairs: Sequence[Pair]) -> bool:  # fmt: skip
+                shell_state: ShellState, pairs: Sequence[Pair]) -> bool:  # fmt: skip
     """Put a captured state back in place; False (nothing changed) if it does not fit."""
     wanted = live_fit_arrays(points, shell_state, pairs)
     if set(arrays) != set(wanted) or any(arrays[k].shape != a.shape or arrays[k].dtype != a.dtype
@@ -109,7 +114,7 @@ def restore_fit(arrays: dict[str, np.ndarray], points: np.ndarray,
 
 
 def obtain_fit(store: Path | None, inputs: dict[str, object], relax: Callable[[], float],
-               points: np.ndarray, shell_state: ShellForceState, pairs: Sequence[Pair], *,
+               points: np.ndarray, shell_state: ShellState, pairs: Sequence[Pair], *,
                reuse: bool = True) -> tuple[float, bool]:  # fmt: skip
     """The relaxed fit in place: restored from ``store``'s folder for ``inputs`` when ``reuse``
     and it is there and fits, else ``relax()`` (which relaxes in place and returns the kinetic

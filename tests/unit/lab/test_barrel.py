@@ -129,14 +129,18 @@ def test_cli_refuses_a_zero_ramp(tmp_path: Path, capsys: pytest.CaptureFixture[s
     assert "ramp-steps" in capsys.readouterr().err
 
 
-def test_cli_hourglass_ratio_belongs_to_the_explicit_solver(
+def test_cli_hourglass_ratio_belongs_to_the_explicit_bt_shells(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     base = ["barrel", "--runs-dir", str(tmp_path), "--hourglass-ratio"]
     assert main([*base, "0.5"]) == 2  # the static MITC4 shells have no hourglass control
     assert "hourglass-ratio" in capsys.readouterr().err
-    assert main([*base, "5", "--solver", "explicit"]) == 2  # beyond r = 1 (unstable at 10)
+    assert main([*base, "0.5", "--solver", "explicit"]) == 2  # nor the co-rotational MITC4
+    assert "--shell bt" in capsys.readouterr().err
+    assert main([*base, "5", "--solver", "explicit", "--shell", "bt"]) == 2  # beyond r = 1
     assert "hourglass_ratio" in capsys.readouterr().err
+    assert main(["barrel", "--runs-dir", str(tmp_path), "--shell", "bt"]) == 2  # static
+    assert "shell" in capsys.readouterr().err
 
 
 def test_condensed_compression_equals_the_active_set_iteration(model, prestress) -> None:
@@ -208,11 +212,11 @@ def test_cli_runs_the_explicit_squeeze_into_its_own_folder(
     for name in ("summary.json", "force_travel.csv", "force_travel.png"):
         assert (folder / name).is_file()
     assert main(base) == 0  # the stored run, told in words with the solver named
-    assert "solver: explicit" in capsys.readouterr().out
-    # a weaker hourglass control softens the one-point shells under the platens (docs/barrel.md)
-    assert main([*base, "--hourglass-ratio", "0.01", "--json"]) == 0
+    assert "solver: explicit: co-rotational MITC4" in capsys.readouterr().out
+    # the one-point shells with LS-DYNA's hourglass control are softer under the platens
+    assert main([*base, "--shell", "bt", "--hourglass-ratio", "0.01", "--json"]) == 0
     soft = json.loads(capsys.readouterr().out)
-    assert soft["run_folder"] != summary["run_folder"]
+    assert soft["run_folder"] != summary["run_folder"] and soft["shell"] == "bt"
     assert soft["preload_lbf"] < summary["preload_lbf"]
 
 
