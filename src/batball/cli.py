@@ -789,6 +789,9 @@ def add_bbs_parser(sub: Any) -> None:
     p.add_argument("--hourglass-ratio", type=float, default=None,
                    help="hourglass ratio r of the bat's one-point shells, 0 < r <= 1 (default "
                         "LS-DYNA's 0.01)")  # fmt: skip
+    p.add_argument("--shell", choices=("bt", "mitc4"), default="bt",
+                   help="the bat's shells: bt, one-point Belytschko-Tsay as the seed (default), "
+                        "or mitc4, the statics' MITC4 made co-rotational")  # fmt: skip
     add_precision_option(p)
     add_store_options(p)
     p.set_defaults(handler=run_bbs_command)
@@ -816,6 +819,7 @@ def bbs_setup(args: argparse.Namespace) -> Any:
         mass_scaling=mass_scaling_option(args.mass_scaling), precision=args.precision,
         insert_friction=args.insert_friction,
         bat_damping=parse_quantity(args.bat_damping, "frequency", field="bat-damping"),
+        bat_shell=args.shell,
         **({} if args.hourglass_ratio is None
            else {"shell_hourglass_ratio": args.hourglass_ratio}),
     )  # fmt: skip

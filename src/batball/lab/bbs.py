@@ -35,13 +35,21 @@ from batball.contact.columns import ColumnContact
 from batball.contact.segments import SegmentContact
 from batball.contact.shell_contact import nodal_areas
 from batball.elements.hex8_block import check_precision
-from batball.elements.shell_bt import HOURGLASS_RATIO, initial_force_state
+from batball.elements.shell_bt import HOURGLASS_RATIO, ShellForceState, initial_force_state
 from batball.elements.shell_bt_section import HG_THICKNESS, LayeredSection, layered_section
+from batball.elements.shell_corotational import (
+    SHELLS,
+    CorotationalShellForces,
+    CorotationalState,
+    check_time_step,
+    initial_rotations,
+)
 from batball.elements.shell_explicit import (
     cell_stable_steps,
     lumped_shell_mass,
     selective_mass_scaling,
 )
+from batball.elements.shell_stiffness import ShellSection, shell_section
 from batball.errors import SimulationError, SpecError
 from batball.lab.fit_store import FitRelaxation, fit_inputs, obtain_fit
 from batball.lab.impact import BallBody, ContactOptions, ball_body, estimate_first_step
@@ -107,6 +115,9 @@ class BbsSetup:
             the pivot, c [1/s] (the form of LS-DYNA's ``*DAMPING_RELATIVE``,
             :func:`batball.solvers.ball_bat.advance_bat`; fraction of critical c / (4 pi f) at
             frequency f); 0, the default, as the seed (docs/bbs.md, "(b) tested").
+        bat_shell: the bat's shell element, "bt" (default: the one-point Belytschko-Tsay
+            shells, as the seed's LS-DYNA model) or "mitc4" (the statics' MITC4 made
+            co-rotational, :mod:`batball.elements.shell_corotational`; no hourglass modes).
     """
 
     speed: float = 110.0 * MPH
@@ -138,6 +149,7 @@ class BbsSetup:
     insert_friction: float = 0.0
     shell_hourglass_ratio: float = HOURGLASS_RATIO
     bat_damping: float = 0.0
+    bat_shell: str = "bt"
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.speed) and 0 < self.speed <= 100.0):
@@ -154,6 +166,8 @@ class BbsSetup:
         if not (np.isfinite(self.insert_friction) and 0.0 <= self.insert_friction <= 10.0):
             raise SpecError("insert_friction", self.insert_friction, "a coefficient 0 .. 10")
         check_hourglass_ratio("shell_hourglass_ratio", self.shell_hourglass_ratio)
+        if self.bat_shell not in SHELLS:
+            raise SpecError("bat_shell", self.bat_shell, " or ".join(SHELLS))
         if not (np.isfinite(self.bat_damping) and 0.0 <= self.bat_damping <= 1e5):
             raise SpecError("bat_damping", f"{self.bat_damping:.4g} 1/s", "0 1/s .. 1e5 1/s")
         if not 0.01 * IN <= self.axial_size <= 2.0 * IN:
@@ -235,6 +249,20 @@ def bat_part(spec: BatSpec, setup: BbsSetup, ball_step: float = np.inf
     part = BatPart(mesh.cells.astype(np.int64), section, mass, step, band, pivot, rigid=whole,
                    fixed=setup.fixed_bat)  # fmt: skip
     return part, mesh, added * quad_areas(mesh.points, mesh.cells)
+
+
+def bat_shell_state(
+    spec: BatSpec, bat: BatPart, mesh: ShellMesh, setup: BbsSetup
+) -> tuple[ShellForceState | CorotationalState, ShellSection | None]:
+    """The shells' initial state and, for the co-rotational MITC4 shells, their section (the
+    step checked against the MITC4 shells' highest frequency); (BT stresses, None) else."""
+    if setup.bat_shell == "bt" or bat.rigid:
+        return initial_force_state(bat.section), None
+    section = shell_section(*bat_laminates(spec, mesh))
+    state = initial_rotations(mesh.n_points)
+    check_time_step(CorotationalShellForces(mesh.points, mesh.cells, section, state=state),
+                    bat.mass, bat.stable_step)  # fmt: skip
+    return state, section
 
 
 def scaled_areal_mass(mesh: ShellMesh, section: LayeredSection, setup: BbsSetup,
@@ -401,7 +429,7 @@ def build_bbs_model(spec: BatSpec, ball: BallSpec, setup: BbsSetup) -> BbsModel:
     if spec.insert is not None and setup.insert_contact and not bat.rigid:
         contacts = (*contacts, insert_barrel_contact(spec, bat, mesh, setup))
     coupled = CoupledModel(points, velocity, ball_part, bat, contacts, 2,
-                           initial_force_state(bat.section))  # fmt: skip
+                           *bat_shell_state(spec, bat, mesh, setup))  # fmt: skip
     interference = spec.insert.interference if spec.insert is not None else 0.0
     unscaled = lumped_shell_mass(mesh.points, mesh.cells, bat.section,
                                  areal_mass=bat_areal_mass(spec, mesh))  # fmt: skip
@@ -429,7 +457,7 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup, *, store: Path | None = None
         ramp, settle = relaxation_cycles(setup, bat.stable_step)
         relaxation = FitRelaxation(model.interference, ramp, settle, setup.search_interval,
                                    bat.stable_step, RELAX_FACTOR,
-                                   setup.shell_hourglass_ratio)  # fmt: skip
+                                   setup.shell_hourglass_ratio, setup.bat_shell)  # fmt: skip
         inputs = fit_inputs(bat, model.bat_mesh.points, inserts, solver.bat_moving, relaxation)
         ratio, reused = obtain_fit(
             store, inputs,

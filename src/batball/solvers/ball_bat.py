@@ -47,6 +47,8 @@ from batball.elements.shell_bt import (
     sum_slots,
 )
 from batball.elements.shell_bt_section import LayeredSection
+from batball.elements.shell_corotational import CorotationalShellForces, CorotationalState
+from batball.elements.shell_stiffness import ShellSection
 from batball.errors import SimulationError
 from batball.materials.foam import FoamTable
 from batball.numerics import FASTMATH
@@ -146,7 +148,10 @@ class CoupledModel:
         velocity: (n_points, 3) initial translational velocity [m/s].
         ball, bat: the parts; contacts: ball-bat (both ways) and insert-barrel contacts.
         ball_contacts: how many of ``contacts`` (the first ones) act between ball and bat.
-        shell_state: initial stresses of the shells (pre-stress), updated in place by a run.
+        shell_state: initial state of the shells (pre-stress), updated in place by a run: the
+            BT shells' stresses, or with ``shell_section`` the nodes' rotations.
+        shell_section: the statics' MITC4 section when the bat's shells are the co-rotational
+            MITC4 (:mod:`batball.elements.shell_corotational`); None: Belytschko-Tsay.
     """
 
     points: np.ndarray
@@ -155,7 +160,8 @@ class CoupledModel:
     bat: BatPart
     contacts: tuple[SegmentContact | ColumnContact, ...]
     ball_contacts: int
-    shell_state: ShellForceState
+    shell_state: ShellForceState | CorotationalState
+    shell_section: ShellSection | None = None
 
     @property
     def n_bat(self) -> int:
@@ -551,8 +557,16 @@ class CoupledSolver:
         self.ball_forces = np.zeros_like(self.ball_velocity)
         self.bat_forces = np.zeros((n_bat, 6))
         self.damping_forces = np.zeros((n_bat, 6))  # advance_bat's scratch
-        self.bat_shells = ShellForces(model.bat, self.shell_state,
-                                      hourglass_ratio=controls.shell_hourglass_ratio)  # fmt: skip
+        self.bat_shells: ShellForces | CorotationalShellForces
+        if isinstance(self.shell_state, CorotationalState):
+            if model.shell_section is None:
+                raise ValueError("co-rotational shell state without a shell section")
+            self.bat_shells = CorotationalShellForces(
+                model.points[:n_bat], model.bat.cells, model.shell_section,
+                state=self.shell_state)  # fmt: skip
+        else:
+            ratio = controls.shell_hourglass_ratio
+            self.bat_shells = ShellForces(model.bat, self.shell_state, hourglass_ratio=ratio)
         self.contact_forces = np.zeros_like(self.points)
         self.spin = np.zeros_like(self.points)  # rotations over the last step (friction)
         for pair in model.contacts:
