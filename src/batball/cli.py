@@ -860,7 +860,8 @@ def describe_bbs(s: dict[str, Any]) -> str:
         *([f"  insert fit {s['interference_pressure_psi']:.1f} psi, "
            + ("restored from the store" if s.get("prestress_reused") else "relaxed in this run")]
           if s.get("interference_pressure_psi") is not None else []),
-        f"  {s['n_shells']} shells + {s['n_hexes']} hexes, {s['n_steps']} steps, "
+        f"  {s['n_shells']} {s.get('bat_shell', 'bt').upper()} shells + {s['n_hexes']} hexes, "
+        f"{s['n_steps']} steps, "
         f"{s['wall_seconds']:.1f} s, results in {s['run_folder']}",
     ])  # fmt: skip
 

@@ -72,6 +72,7 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         "model_pivot_moi_oz_in2": m.model_pivot_inertia / OZ_IN2,
         "mass_scaling": setup.mass_scaling,
         "insert_friction": setup.insert_friction,
+        "bat_shell": setup.bat_shell,
         "added_mass_g": float(result.model.added_mass.sum() * 1e3),
         "added_mass_percent": float(
             100 * result.model.added_mass.sum() / result.model.coupled.bat.mass[:, 0].sum()

@@ -90,3 +90,13 @@ def test_a_second_speed_restores_the_stored_fit(tmp_path: Path, capsys) -> None:
     code, out, _ = run_cli([*base, "--speed", "110 mph"], capsys)
     assert code == 0
     assert "restored from the store" in out
+    # the co-rotational MITC4 shells are another bat model: their own fit, relaxed anew
+    code, out, _ = run_cli([*base, "--speed", "110 mph", "--shell", "mitc4"], capsys)
+    assert code == 0
+    assert "relaxed in this run" in out and "MITC4 shells" in out
+    assert len(list(tmp_path.glob("fit-*"))) == 2
+
+
+def test_setup_rejects_an_unknown_shell() -> None:
+    with pytest.raises(SpecError, match="bat_shell"):
+        BbsSetup(bat_shell="hughes-liu")
