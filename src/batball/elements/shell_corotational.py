@@ -41,6 +41,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import eigsh
 
+from batball.elements.hex8_geometry import cross
 from batball.elements.shell_bt import Vec3, dot3, element_frame
 from batball.elements.shell_stiffness import (
     DRILLING_FACTOR,
@@ -163,12 +164,6 @@ def deformation(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
-def cross3(a: Vec3, b: Vec3) -> Vec3:
-    """a x b."""
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-@nb.njit(inline="always", fastmath=FASTMATH)
 def balance_moment(reference: np.ndarray, c: int, d: np.ndarray, f: np.ndarray) -> None:
     """Remove from the local forces in column c of ``f`` (24, n_cells) their moment about the
     current centroid by the couple w x p_a, J w = -M, J = sum (|p|^2 I - p p^T), p_a =
@@ -178,7 +173,7 @@ def balance_moment(reference: np.ndarray, c: int, d: np.ndarray, f: np.ndarray) 
     for a in range(4):
         p = (reference[c, a, 0] + d[6 * a, c], reference[c, a, 1] + d[6 * a + 1, c],
              reference[c, a, 2] + d[6 * a + 2, c])  # fmt: skip
-        t = cross3(p, (f[6 * a, c], f[6 * a + 1, c], f[6 * a + 2, c]))
+        t = cross(p, (f[6 * a, c], f[6 * a + 1, c], f[6 * a + 2, c]))
         mx += t[0] + f[6 * a + 3, c]
         my += t[1] + f[6 * a + 4, c]
         mz += t[2] + f[6 * a + 5, c]
@@ -198,7 +193,7 @@ def balance_moment(reference: np.ndarray, c: int, d: np.ndarray, f: np.ndarray) 
     for a in range(4):
         p = (reference[c, a, 0] + d[6 * a, c], reference[c, a, 1] + d[6 * a + 1, c],
              reference[c, a, 2] + d[6 * a + 2, c])  # fmt: skip
-        t = cross3(w, p)
+        t = cross(w, p)
         for k in range(3):
             f[6 * a + k, c] += t[k]
 
