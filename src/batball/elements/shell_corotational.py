@@ -357,3 +357,13 @@ def check_time_step(shells: CorotationalShellForces, mass: np.ndarray, dt: float
     if dt > limit * critical:
         raise SimulationError(f"explicit step {dt:.3e} s exceeds {limit:g} x the co-rotational "
                               f"MITC4 shells' critical step {critical:.3e} s")  # fmt: skip
+
+
+def checked_shells(points: np.ndarray, cells: np.ndarray, section: ShellSection,
+                   mass: np.ndarray, dt: float, *,
+                   state: CorotationalState | None = None) -> CorotationalShellForces:  # fmt: skip
+    """The co-rotational shells of a bat whose explicit step ``dt`` [s] with lumped ``mass``
+    (n, 6) has been checked against them (:func:`check_time_step`)."""
+    shells = CorotationalShellForces(points, cells, section, state=state)
+    check_time_step(shells, mass, dt)
+    return shells

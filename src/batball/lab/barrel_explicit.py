@@ -55,7 +55,7 @@ import numpy as np
 from batball.contact.columns import ColumnContact
 from batball.contact.rigid import RigidCylinder, add_rigid_contact_forces
 from batball.elements.shell_bt import initial_force_state
-from batball.elements.shell_corotational import SHELLS, CorotationalShellForces, check_time_step
+from batball.elements.shell_corotational import SHELLS, CorotationalShellForces, checked_shells
 from batball.elements.shell_stiffness import shell_section
 from batball.errors import SimulationError, SpecError
 from batball.lab.barrel import (
@@ -191,9 +191,8 @@ def build_explicit_bat(spec: BatSpec, options: ExplicitBarrelOptions) -> Explici
     velocity = np.zeros((mesh.n_points, 6))
     shells: ShellForces | CorotationalShellForces
     if options.shell == "mitc4":
-        shells = CorotationalShellForces(mesh.points, mesh.cells,
-                                         shell_section(*bat_laminates(spec, mesh)))  # fmt: skip
-        check_time_step(shells, bat.mass, bat.stable_step)
+        shells = checked_shells(mesh.points, mesh.cells, shell_section(*bat_laminates(spec, mesh)),
+                                bat.mass, bat.stable_step)  # fmt: skip
     else:
         shells = ShellForces(bat, initial_force_state(bat.section),
                              hourglass_ratio=options.hourglass_ratio)  # fmt: skip

@@ -37,13 +37,7 @@ from batball.contact.shell_contact import nodal_areas
 from batball.elements.hex8_block import check_precision
 from batball.elements.shell_bt import HOURGLASS_RATIO, ShellForceState, initial_force_state
 from batball.elements.shell_bt_section import HG_THICKNESS, LayeredSection, layered_section
-from batball.elements.shell_corotational import (
-    SHELLS,
-    CorotationalShellForces,
-    CorotationalState,
-    check_time_step,
-    initial_rotations,
-)
+from batball.elements.shell_corotational import SHELLS, CorotationalState, initial_rotations
 from batball.elements.shell_explicit import (
     cell_stable_steps,
     lumped_shell_mass,
@@ -255,14 +249,10 @@ def bat_shell_state(
     spec: BatSpec, bat: BatPart, mesh: ShellMesh, setup: BbsSetup
 ) -> tuple[ShellForceState | CorotationalState, ShellSection | None]:
     """The shells' initial state and, for the co-rotational MITC4 shells, their section (the
-    step checked against the MITC4 shells' highest frequency); (BT stresses, None) else."""
+    solver builds those shells and checks the step against them); (BT stresses, None) else."""
     if setup.bat_shell == "bt" or bat.rigid:
         return initial_force_state(bat.section), None
-    section = shell_section(*bat_laminates(spec, mesh))
-    state = initial_rotations(mesh.n_points)
-    check_time_step(CorotationalShellForces(mesh.points, mesh.cells, section, state=state),
-                    bat.mass, bat.stable_step)  # fmt: skip
-    return state, section
+    return initial_rotations(mesh.n_points), shell_section(*bat_laminates(spec, mesh))
 
 
 def scaled_areal_mass(mesh: ShellMesh, section: LayeredSection, setup: BbsSetup,

@@ -47,7 +47,11 @@ from batball.elements.shell_bt import (
     sum_slots,
 )
 from batball.elements.shell_bt_section import LayeredSection
-from batball.elements.shell_corotational import CorotationalShellForces, CorotationalState
+from batball.elements.shell_corotational import (
+    CorotationalShellForces,
+    CorotationalState,
+    checked_shells,
+)
 from batball.elements.shell_stiffness import ShellSection
 from batball.errors import SimulationError
 from batball.materials.foam import FoamTable
@@ -561,9 +565,9 @@ class CoupledSolver:
         if isinstance(self.shell_state, CorotationalState):
             if model.shell_section is None:
                 raise ValueError("co-rotational shell state without a shell section")
-            self.bat_shells = CorotationalShellForces(
-                model.points[:n_bat], model.bat.cells, model.shell_section,
-                state=self.shell_state)  # fmt: skip
+            self.bat_shells = checked_shells(model.points[:n_bat], model.bat.cells,
+                                             model.shell_section, model.bat.mass,
+                                             model.bat.stable_step, state=self.shell_state)
         else:
             ratio = controls.shell_hourglass_ratio
             self.bat_shells = ShellForces(model.bat, self.shell_state, hourglass_ratio=ratio)
