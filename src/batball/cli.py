@@ -546,6 +546,13 @@ def add_barrel_parser(sub: Any) -> None:
         "as the seed; the fit itself stays frictionless; docs/barrel.md)",
     )
     p.add_argument(
+        "--platen-friction",
+        type=float,
+        default=0.0,
+        help="Coulomb coefficient between the platens and the barrel (default 0, as the seed; "
+        "docs/barrel.md, 'Friction at the platens')",
+    )
+    p.add_argument(
         "--solver",
         choices=("static", "explicit"),
         default="static",
@@ -581,7 +588,7 @@ def run_barrel_command(args: argparse.Namespace) -> int:
         raise SpecError("ramp-steps", args.ramp_steps, "an integer >= 1")
     spec = load_bat_spec(args.bat)
     options = bat_mesh_options(args)
-    test = BarrelTestOptions(friction=args.friction)
+    test = BarrelTestOptions(friction=args.friction, platen_friction=args.platen_friction)
     if args.solver == "explicit":
         from batball.lab.barrel_explicit import ExplicitBarrelOptions
         from batball.lab.barrel_run import run_explicit_barrel_test
@@ -622,7 +629,8 @@ def describe_barrel(s: dict[str, Any]) -> str:
         f"  final load {s['final_load_lbf']:7.1f} lbf  (experiment {exp['final_load_lbf']:.0f}, "
         f"seed FE {seed['final_load_lbf']:.0f})",
         f"  solver: {s.get('solver', 'static: linear MITC4 shells')}",
-        f"  insert friction during the squeeze: mu = {s.get('insert_friction', 0.0):g}",
+        f"  friction during the squeeze: mu = {s.get('insert_friction', 0.0):g} insert-barrel, "
+        f"{s.get('platen_friction', 0.0):g} platens-barrel",
         f"  interference pressure {s['interference_pressure_psi']:.1f} psi (thin rings "
         f"{s['interference_pressure_thin_ring_psi']:.1f} psi)",
         f"  {s['n_shells']} shells, {s['wall_seconds']:.1f} s, results in {s['run_folder']}",

@@ -41,6 +41,8 @@ from batball.lab.barrel import (
 from batball.lab.barrel_explicit import (
     ExplicitBarrelOptions,
     build_explicit_bat,
+    make_platens,
+    platen_friction_forces,
     press_fit,
     squeeze,
 )
@@ -115,3 +117,35 @@ def test_bad_options_name_the_field() -> None:
         ExplicitBarrelOptions(circumferential=20)
     with pytest.raises(SpecError, match="shell"):
         ExplicitBarrelOptions(shell="hughes-liu")
+
+
+def test_platen_friction_resists_the_surface_not_the_mid_surface(spec, protocol) -> None:  # noqa: ANN001
+    """The explicit squeeze's platen friction (barrel_explicit.platen_friction_forces) on a bat
+    turning rigidly about its axis at omega under pressed platens: each pressed node's outer
+    surface, o off its mid-surface p along the radial r, moves by omega x (p + o r) dt, so
+    the friction is k_t times minus the tangential part of that (stick), its moment about the
+    node (o r) x f, and the platens take the opposite force."""
+    options = ExplicitBarrelOptions(circumferential=AROUND, axial_size=AXIAL)
+    state = build_explicit_bat(spec, options)
+    platens = make_platens(state, protocol, 0.0, options.contact_scale)
+    omega, n = 50.0, platens.nodes.size  # rad/s
+    p = state.points[platens.nodes]
+    radial = p * np.array([0.0, 1.0, 1.0]) / np.hypot(p[:, 1], p[:, 2])[:, None]
+    arm = state.surface_offset[platens.nodes, None] * radial
+    state.velocity[platens.nodes, :3] = np.cross([omega, 0.0, 0.0], p)
+    state.velocity[platens.nodes, 3] = omega
+    normal = -1e3 * radial  # pressed towards the axis
+    normal[::2] = 0.0  # half of them free
+    platen_forces, forces = normal.copy(), np.zeros_like(state.velocity)
+    reaction = np.zeros((2, 3))
+    platen_friction_forces(state, platens, 0.3, 0.0, np.zeros((n, 3)), platen_forces, forces,
+                           reaction)  # fmt: skip
+    slip = -state.bat.stable_step * np.cross([omega, 0.0, 0.0], p + arm)
+    tangential = slip - np.einsum("ij,ij->i", slip, radial)[:, None] * radial
+    expected = platens.stiffness[:, None] * tangential
+    expected[::2] = 0.0
+    size = np.linalg.norm(expected[1::2], axis=1)
+    assert size.max() < 0.3e3 and size.min() > 1.0  # sticking, as assumed, and not nothing
+    np.testing.assert_allclose(platen_forces - normal, expected, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(forces[platens.nodes, 3:], np.cross(arm, expected), atol=1e-15)
+    np.testing.assert_allclose(reaction.sum(axis=0), -expected.sum(axis=0), atol=1e-12)

@@ -24,6 +24,7 @@ from batball.lab.barrel import (
     compute_prestress,
     insert_friction,
     platen_gaps,
+    with_platen_friction,
 )
 from batball.solvers.static_contact import solve_static_contact
 from batball.specs import load_bat_spec
@@ -82,3 +83,66 @@ def test_friction_lies_between_sliding_and_sticking(coarse) -> None:  # noqa: AN
     loads = [compress_barrel_with_friction(model, prestress, OPTIONS, 0.0, mu).force
              for mu in (0.0, 0.2, 1e6)]  # fmt: skip
     assert np.all(loads[0] < loads[1]) and np.all(loads[1] < loads[2])
+
+
+
+@pytest.fixture(scope="module")
+def finer():  # noqa: ANN201
+    """32 around and 0.2-in rings: more than one node under each platen at 0.07 in."""
+    model = build_barrel_model(load_bat_spec("default"), circumferential=32, axial_size=0.2 * IN)
+    return model, compute_prestress(model)
+
+
+def test_sticking_platens_are_the_glued_solve_with_the_platens_sliding_motion(finer) -> None:  # noqa: ANN001
+    """Platen friction (lab/barrel.with_platen_friction) with every touching pair sticking, in
+    one step of 0.07 in, equals the frictionless active-set solve with two-sided glue springs
+    on the pairs that touch: k_t (s0 + T u - xi), s0 the platen's own tangential motion (it
+    moves along the load, not along the tilted normals), xi the slips before the step. The
+    force read includes the glue's share along the load in both."""
+    model, prestress = finer
+    protocol = BarrelTestOptions(preload_steps=1, final_steps=1, preload_travel=0.07 * IN,
+                                 final_travel=0.001 * IN)  # fmt: skip
+    stuck = compress_barrel_with_friction(model, prestress, protocol, 0.0, 0.0, platen_mu=1e6)
+    fixed, springs = compression_supports(model, protocol, 0.0)
+    friction = with_platen_friction(model, protocol, 0.0, insert_friction(model, 0.0), 1e6)
+    fit = dataclasses.replace(model.interference, bilateral=True)
+
+    def sets(travel: float) -> list[PenaltyGaps]:
+        top, bottom = platen_gaps(model, protocol, 0.0, travel, prestress.u)
+        held = bottom.initial <= bottom.initial.min() + 1e-12
+        rest = dataclasses.replace(bottom, stiffness=np.where(held, 0, bottom.stiffness))
+        holder = dataclasses.replace(bottom, stiffness=np.where(held, bottom.stiffness, 0),
+                                     bilateral=True)  # fmt: skip
+        return [fit, top, rest, holder, springs]
+
+    anchor = friction.slip(solve_static_contact(model.stiffness, sets(0.0), fixed_dofs=fixed).u)
+    travel = 0.07 * IN
+    level = sets(travel)
+    n_insert, n_top = model.insert_nodes.size, level[1].n_gaps
+    translation = np.tile([0.0, 1.0, 0.0, 0.0, 0.0, 0.0], model.mesh.n_points)  # the load
+    cosines = np.column_stack([rows @ translation for rows in friction.slips])
+    moved = np.zeros_like(anchor)
+    moved[n_insert:n_insert + n_top] = travel * cosines[n_insert:n_insert + n_top]
+
+    def glued(touching: np.ndarray):  # noqa: ANN202
+        glue = [PenaltyGaps(rows[touching], (moved - anchor)[touching, d],
+                            friction.stiffness[touching], bilateral=True)
+                for d, rows in enumerate(friction.slips)]  # fmt: skip
+        return solve_static_contact(model.stiffness, [*level, *glue], fixed_dofs=fixed)
+
+    def touching_of(solution) -> np.ndarray:  # noqa: ANN001
+        pressed = np.zeros(friction.stiffness.size, bool)
+        pressed[n_insert:] = np.concatenate([solution.forces[1],
+                                             solution.forces[2] + solution.forces[3]]) > 0.0
+        return pressed
+
+    touching = touching_of(glued(np.zeros(friction.stiffness.size, bool)))
+    solution = glued(touching)
+    assert np.array_equal(touching_of(solution), touching)  # the glue kept the same contact
+    top = np.zeros_like(touching)
+    top[n_insert:n_insert + n_top] = True
+    force = -(solution.forces[1] * (level[1].matrix @ translation)).sum() - sum(
+        (solution.forces[5 + d] * cosines[touching, d])[top[touching]].sum() for d in range(2))
+    assert touching[top].sum() >= 2 and touching[~top].sum() >= 2
+    assert np.abs(moved[touching & top]).max() > 0.01 * travel  # a point off the apex slides
+    assert stuck.force[0] == pytest.approx(force, rel=1e-6)

@@ -184,6 +184,23 @@ def scatter_turning_forces(master_rings: np.ndarray, column: np.ndarray, ring: n
             forces[master_rings[r + 1, left], k] -= s * around
 
 
+@nb.njit(cache=True, fastmath=FASTMATH)
+def coulomb_update(force: np.ndarray, m0: float, m1: float, m2: float, d0: float, d1: float,
+                   d2: float, stiffness: float, limit: float) -> None:  # fmt: skip
+    """One step of penalty Coulomb friction, in place on a pair's friction force (3,) [N]: the
+    old force turned into the tangent plane of the unit normal m, plus ``stiffness`` [N/m]
+    times the tangential part of the slip d [m] over the step, capped at ``limit`` [N]
+    (mu times the normal force): a radial return."""
+    along = d0 * m0 + d1 * m1 + d2 * m2
+    old = force[0] * m0 + force[1] * m1 + force[2] * m2
+    f0 = force[0] - old * m0 + stiffness * (d0 - along * m0)
+    f1 = force[1] - old * m1 + stiffness * (d1 - along * m1)
+    f2 = force[2] - old * m2 + stiffness * (d2 - along * m2)
+    size = np.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+    scale = min(1.0, limit / size) if size > 0.0 else 1.0
+    force[0], force[1], force[2] = f0 * scale, f1 * scale, f2 * scale
+
+
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
 def column_friction_forces(points: np.ndarray, slave_nodes: np.ndarray, master_rings: np.ndarray,
                            column: np.ndarray, ring: np.ndarray, weight_b: np.ndarray,
@@ -244,15 +261,8 @@ def column_friction_forces(points: np.ndarray, slave_nodes: np.ndarray, master_r
         d0 = then[0] - last_relative[n, 0] - (w[1] * m2 - w[2] * m1)
         d1 = then[1] - last_relative[n, 1] - (w[2] * m0 - w[0] * m2)
         d2 = then[2] - last_relative[n, 2] - (w[0] * m1 - w[1] * m0)
-        along = d0 * m0 + d1 * m1 + d2 * m2
-        old = friction_force[n, 0] * m0 + friction_force[n, 1] * m1 + friction_force[n, 2] * m2
-        f0 = friction_force[n, 0] - old * m0 + stiffness[n] * (d0 - along * m0)
-        f1 = friction_force[n, 1] - old * m1 + stiffness[n] * (d1 - along * m1)
-        f2 = friction_force[n, 2] - old * m2 + stiffness[n] * (d2 - along * m2)
-        size = np.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-        scale = min(1.0, mu * normal_force / size) if size > 0.0 else 1.0
-        friction_force[n, 0], friction_force[n, 1] = f0 * scale, f1 * scale
-        friction_force[n, 2] = f2 * scale
+        coulomb_update(friction_force[n], m0, m1, m2, d0, d1, d2, stiffness[n],
+                       mu * normal_force)  # fmt: skip
         for k in range(3):
             last_relative[n, k] = rel[k]
 

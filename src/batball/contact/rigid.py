@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
+from batball.contact.columns import coulomb_update
 from batball.errors import SpecError
 from batball.numerics import FASTMATH
 
@@ -206,6 +207,29 @@ def add_rigid_contact_forces(
                     forces[n, i] += fi
                     reaction[k, i] -= fi
     return n_active
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def add_rigid_friction_forces(normal_force: np.ndarray, slip: np.ndarray, mu: float,
+                              stiffness: np.ndarray, friction: np.ndarray,
+                              out: np.ndarray) -> None:  # fmt: skip
+    """Coulomb friction of rigid targets on their slaves, per slave row, added to ``out``
+    (n_slaves, 3) [N]: the friction force ``friction`` (n_slaves, 3) [N] grows by ``stiffness``
+    (n_slaves,) [N/m] times the tangential part of ``slip`` (n_slaves, 3) [m], the target's
+    motion minus the slave's contact surface's over the step, and is capped at ``mu`` times
+    the normal force ``normal_force`` (n_slaves, 3) [N] of :func:`add_rigid_contact_forces`
+    (:func:`batball.contact.columns.coulomb_update`). A slave out of contact carries none."""
+    for s in range(normal_force.shape[0]):
+        size = np.sqrt(normal_force[s, 0] ** 2 + normal_force[s, 1] ** 2
+                       + normal_force[s, 2] ** 2)  # fmt: skip
+        if size == 0.0:
+            friction[s, :] = 0.0
+            continue
+        coulomb_update(friction[s], normal_force[s, 0] / size, normal_force[s, 1] / size,
+                       normal_force[s, 2] / size, slip[s, 0], slip[s, 1], slip[s, 2],
+                       stiffness[s], mu * size)  # fmt: skip
+        for k in range(3):
+            out[s, k] += friction[s, k]
 
 
 def segment_stiffness(

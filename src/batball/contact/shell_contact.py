@@ -24,6 +24,7 @@ barrel-compression platens.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -175,12 +176,53 @@ def coaxial_ring_slips(
     axial = np.zeros_like(normals)
     axial[:, 0] = 1.0
     hoop = np.cross(axial, normals)
-    n_points = points.shape[0]
+    return surface_slips(nodes, weights, offsets, normals, (axial, hoop), points.shape[0])
+
+
+def surface_slips(nodes: np.ndarray, weights: np.ndarray, offsets: np.ndarray,
+                  normals: np.ndarray, tangents: Sequence[np.ndarray],
+                  n_points: int) -> tuple[sp.csr_matrix, ...]:  # fmt: skip
+    """Rows of the weighted tangential motion of shell surface points: the point o n off the
+    node's mid-surface moves by u + theta x (o n), so along t by u . t + o (n x t) . theta.
+
+    Args:
+        nodes, weights: (n_rows, n_terms) as :func:`gap_matrix`'s.
+        offsets: (n_rows, n_terms) signed offset o of each term's surface along ``normals``, m.
+        normals: (n_rows, 3) the walls' unit normal at each row (the offsets' direction).
+        tangents: the slip directions, each (n_rows, 3) unit vectors.
+        n_points: number of nodes (6 dofs each).
+    """
     return tuple(
         gap_matrix(nodes, weights, t, n_points)
         + gap_matrix(nodes, weights * offsets, np.cross(normals, t), n_points, first_dof=3)
-        for t in (axial, hoop)
+        for t in tangents
     )
+
+
+def rigid_cylinder_slips(
+    points: np.ndarray,
+    *,
+    nodes: np.ndarray,
+    offsets: np.ndarray,
+    axis_point: np.ndarray,
+    axis_direction: np.ndarray,
+) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """The tangential motion of a fixed rigid cylinder against the shell nodes' offset surfaces
+    of :func:`rigid_cylinder_gaps` (the cylinder's point minus the surface's: minus the
+    surface's motion), along the cylinder's axis and around it (the normal crossed with the
+    axis): two (n_gaps, 6 n_points) matrices, the directions fixed at the undeformed geometry.
+
+    The surface lies ``offsets`` out along the radial direction r about the bat's x axis, so
+    its motion carries the node's rotation as o (r x t) . theta (:func:`surface_slips`); a
+    cylinder moved along its normals slides nothing, so a moving platen has the same rows.
+    """
+    radial, normals, _ = cylinder_contact_frame(points, nodes, offsets, axis_point,
+                                                axis_direction)  # fmt: skip
+    along = np.tile(np.asarray(axis_direction, dtype=float), (nodes.size, 1))
+    around = np.cross(normals, along)
+    ones = -np.ones((nodes.size, 1))
+    return surface_slips(nodes[:, None], ones, offsets[:, None], radial, (along, around),
+                         points.shape[0])
 
 
 def rigid_cylinder_gaps(
@@ -209,14 +251,22 @@ def rigid_cylinder_gaps(
         radius: cylinder radius, m.
         stiffness: penalty per gap, (n_gaps,), N/m.
     """
-    position = points[nodes].copy()
-    radial = position.copy()
-    radial[:, 0] = 0.0
-    radial /= np.linalg.norm(radial, axis=1, keepdims=True)
-    position += offsets[:, None] * radial
-    relative = position - axis_point
-    relative -= np.outer(relative @ axis_direction, axis_direction)
-    distance = np.linalg.norm(relative, axis=1)
-    normals = relative / distance[:, None]
+    _, normals, distance = cylinder_contact_frame(points, nodes, offsets, axis_point,
+                                                  axis_direction)  # fmt: skip
     matrix = gap_matrix(nodes[:, None], np.ones((nodes.size, 1)), normals, points.shape[0])
     return PenaltyGaps(matrix, distance - radius, np.asarray(stiffness, dtype=float))
+
+
+def cylinder_contact_frame(points: np.ndarray, nodes: np.ndarray, offsets: np.ndarray,
+                           axis_point: np.ndarray, axis_direction: np.ndarray,
+                           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """For shell nodes whose surface lies ``offsets`` out along the radial direction about the
+    x axis: that radial direction, the unit normal from a cylinder's axis to the surface point
+    and the point's distance from the axis (m), each per node."""
+    radial = points[nodes].copy()
+    radial[:, 0] = 0.0
+    radial /= np.linalg.norm(radial, axis=1, keepdims=True)
+    relative = points[nodes] + offsets[:, None] * radial - axis_point
+    relative -= np.outer(relative @ axis_direction, axis_direction)
+    distance = np.linalg.norm(relative, axis=1)
+    return radial, relative / distance[:, None], distance

@@ -41,6 +41,7 @@ from batball.contact.shell_contact import (
     gap_matrix,
     nodal_areas,
     rigid_cylinder_gaps,
+    rigid_cylinder_slips,
 )
 from batball.elements.shell_stiffness import (
     ShellSection,
@@ -89,6 +90,8 @@ class BarrelTestOptions:
         friction: Coulomb coefficient between insert and barrel during the compression (0:
             frictionless, the seed's; > 0 solves every orientation in load steps over the curve
             levels, :func:`compress_barrel_with_friction`).
+        platen_friction: Coulomb coefficient between the platens and the barrel's outer surface
+            (0: frictionless, the seed's; > 0 solves as ``friction`` does).
     """
 
     platen_diameter: float = 3.3 * IN
@@ -101,10 +104,18 @@ class BarrelTestOptions:
     curve_orientations: int = 1
     penalty_factor: float = 1e3
     friction: float = 0.0
+    platen_friction: float = 0.0
 
     def __post_init__(self) -> None:
-        if not (np.isfinite(self.friction) and 0.0 <= self.friction <= 10.0):
-            raise SpecError("friction", self.friction, "a coefficient 0 .. 10")
+        for name in ("friction", "platen_friction"):
+            mu = getattr(self, name)
+            if not (np.isfinite(mu) and 0.0 <= mu <= 10.0):
+                raise SpecError(name, mu, "a coefficient 0 .. 10")
+
+    @property
+    def frictional(self) -> bool:
+        """Whether any contact of the squeeze has friction."""
+        return self.friction > 0.0 or self.platen_friction > 0.0
 
     def travels(self, *, curve: bool) -> np.ndarray:
         """Platen travels solved, m: all curve levels or just (preload, preload + final)."""
@@ -294,20 +305,14 @@ def platen_gaps(model: BarrelModel, options: BarrelTestOptions, orientation_deg:
     swells the barrel by about 0.0005 in): the gauges are zeroed at first contact."""
     load, sideways = load_axes(orientation_deg)
     radius = 0.5 * options.platen_diameter
-    centre_x = model.spec.length - options.distance_from_cap
-    outer = model.outer_rings.ravel()
     points = model.mesh.points
-    near = np.abs(points[outer, 0] - centre_x) < radius
-    reach = float(model.spec.outer_radius(centre_x)) + radius
-    centre = np.array([centre_x, 0.0, 0.0])
     gap_sets = []
-    for side, shift in ((1.0, travel), (-1.0, 0.0)):
-        nodes = outer[near & (side * (points[outer] @ load) > 0.0)]
+    for (nodes, axis_point), shift in zip(platen_sides(model, options, orientation_deg),
+                                          (travel, 0.0), strict=True):  # fmt: skip
         stiffness = model.contact_stiffness_per_area * nodal_areas(points, model.mesh.cells)[nodes]
         at_zero, moved = (rigid_cylinder_gaps(
             points, nodes=nodes, offsets=model.outer_offsets[nodes], radius=radius,
-            axis_point=centre + side * (reach - s) * load, axis_direction=sideways,
-            stiffness=stiffness,
+            axis_point=axis_point - s * load, axis_direction=sideways, stiffness=stiffness,
         ) for s in (0.0, shift))  # fmt: skip
         # Zero travel = first touch: no ring need lie under the platen's apex. The normals stay
         # those at first touch (small displacements), so a level's matrix depends on its closed
@@ -315,6 +320,22 @@ def platen_gaps(model: BarrelModel, options: BarrelTestOptions, orientation_deg:
         first_touch = at_zero.gaps(prestress_u).min()
         gap_sets.append(replace(at_zero, initial=moved.initial - first_touch))
     return gap_sets
+
+
+def platen_sides(model: BarrelModel, options: BarrelTestOptions,
+                 orientation_deg: float) -> list[tuple[np.ndarray, np.ndarray]]:  # fmt: skip
+    """The top and the bottom platen: each one's candidate outer-wall nodes (within its radius
+    of its centre, on its side of the bat) and a point of its axis at zero travel (m)."""
+    load, _ = load_axes(orientation_deg)
+    radius = 0.5 * options.platen_diameter
+    centre_x = model.spec.length - options.distance_from_cap
+    outer = model.outer_rings.ravel()
+    points = model.mesh.points
+    near = np.abs(points[outer, 0] - centre_x) < radius
+    reach = float(model.spec.outer_radius(centre_x)) + radius
+    centre = np.array([centre_x, 0.0, 0.0])
+    return [(outer[near & (side * (points[outer] @ load) > 0.0)], centre + side * reach * load)
+            for side in (1.0, -1.0)]  # fmt: skip
 
 
 def support_nodes(points: np.ndarray, outer: np.ndarray, insert: np.ndarray, centre_x: float,
@@ -380,11 +401,13 @@ class CompressionCurve:
         return float(self.force[np.argmin(np.abs(self.travel - travel))])
 
 
-def along(gaps: PenaltyGaps, direction: np.ndarray, n_points: int) -> np.ndarray:
-    """n . direction of each gap's normal, (n_gaps,) (G applied to a rigid translation)."""
+def along(gaps: PenaltyGaps | sp.spmatrix, direction: np.ndarray, n_points: int) -> np.ndarray:
+    """n . direction of each gap's normal, (n_gaps,) (G applied to a rigid translation; or any
+    rows of that form, as friction's slips)."""
     translation = np.zeros((n_points, 6))
     translation[:, :3] = direction
-    return gaps.matrix @ translation.ravel()
+    matrix = gaps.matrix if isinstance(gaps, PenaltyGaps) else gaps
+    return matrix @ translation.ravel()
 
 
 def radial_cosines(points: np.ndarray, direction: np.ndarray) -> np.ndarray:
@@ -482,7 +505,33 @@ def insert_friction(model: BarrelModel, mu: float, *,
         slave_offsets=np.full(model.insert_nodes.size, insert_half_wall(model.spec)),
         master_offsets=bore_offsets(model.spec, model.mesh.points),
     )  # fmt: skip
-    return CoulombFriction(slips, 0, stick_factor * model.interference.stiffness, mu)
+    return CoulombFriction(slips, ((0,),), stick_factor * model.interference.stiffness, mu)
+
+
+def with_platen_friction(model: BarrelModel, options: BarrelTestOptions, orientation_deg: float,
+                         insert: CoulombFriction, mu: float, *,
+                         stick_factor: float = STICK_FACTOR) -> CoulombFriction:  # fmt: skip
+    """``insert``'s friction (on the gap set 0) and Coulomb friction ``mu`` between the platens
+    and the barrel's outer surface, along the platens' axes and around them, on the gap sets
+    of :func:`compress_barrel_with_friction` (1: the top platen; 2 and 3: the bottom one, split
+    in two); the stick spring of each pair is ``stick_factor`` times its normal penalty. The
+    platens are rigid and move only along the load, so a pair's slip is the barrel surface's
+    own tangential motion, rotations times the wall's offset included."""
+    if not (np.isfinite(mu) and mu >= 0.0):
+        raise SpecError("platen_friction", mu, "a coefficient >= 0")
+    _, sideways = load_axes(orientation_deg)
+    points = model.mesh.points
+    rows, stiffness = [list(insert.slips)], [insert.stiffness]
+    for nodes, axis_point in platen_sides(model, options, orientation_deg):
+        rows.append(list(rigid_cylinder_slips(
+            points, nodes=nodes, offsets=model.outer_offsets[nodes], axis_point=axis_point,
+            axis_direction=sideways)))  # fmt: skip
+        areas = nodal_areas(points, model.mesh.cells)[nodes]
+        stiffness.append(stick_factor * model.contact_stiffness_per_area * areas)
+    slips = tuple(sp.vstack([r[d] for r in rows]).tocsr() for d in range(2))
+    mus = np.concatenate([np.broadcast_to(insert.mu, insert.stiffness.shape),
+                          np.full(stiffness[1].size + stiffness[2].size, mu)])  # fmt: skip
+    return CoulombFriction(slips, ((0,), (1,), (2, 3)), np.concatenate(stiffness), mus)
 
 
 def compress_barrel_with_friction(
@@ -492,25 +541,33 @@ def compress_barrel_with_friction(
     orientation_deg: float,
     mu: float,
     *,
+    platen_mu: float = 0.0,
     stick_factor: float = STICK_FACTOR,
 ) -> CompressionCurve:
     """The compression of :func:`compress_barrel` with Coulomb friction ``mu`` between insert
-    and barrel, by load steps over every curve level (friction makes the path count).
+    and barrel, and ``platen_mu`` between the platens and the barrel
+    (:func:`with_platen_friction`), by load steps over every curve level (friction makes the
+    path count).
 
     The fit is the frictionless pre-stress (the insert is pressed in axially, so its radial fit
     is taken to have slid to the frictionless state; docs/barrel.md): at zero travel every pair
     sticks with no traction, and the platens' travel then loads the interface. The bottom
     platen's first-touch gap is a two-sided spring (it holds the bat against rigid motion
-    along the load, as the frictionless solve's assumed-closed gap; it stays compressed)."""
+    along the load, as the frictionless solve's assumed-closed gap; it stays compressed). The
+    force read is the top platen's along the load, its friction's share included."""
     load, _ = load_axes(orientation_deg)
     n_points = model.mesh.n_points
     fixed, springs = compression_supports(model, options, orientation_deg)
     friction = insert_friction(model, mu, stick_factor=stick_factor)
+    if platen_mu > 0.0:
+        friction = with_platen_friction(model, options, orientation_deg, friction, platen_mu,
+                                        stick_factor=stick_factor)  # fmt: skip
     insert_cosine = insert_cosines(model, load)
     travels = options.travels(curve=True)
     force, upper, lower = np.zeros(travels.size), np.zeros(travels.size), np.zeros(travels.size)
     reuse, kept, solves = FactorReuse(), FactorReuse(rtol=1e-12), 0
-    where = f"barrel compression with friction {mu:g} at {orientation_deg:g} deg"
+    where = (f"barrel compression with friction {mu:g} (platens {platen_mu:g}) "
+             f"at {orientation_deg:g} deg")
 
     fit = replace(model.interference, bilateral=True)
 
@@ -529,16 +586,24 @@ def compress_barrel_with_friction(
     fitted = solve_static_contact(model.stiffness, start, fixed_dofs=fixed,
                                   initial_active=active, where=where, reuse=reuse)  # fmt: skip
     anchor, active = friction.slip(fitted.u), fitted.active
+    # the top platen's pairs (after the insert's, if it has friction) and their slips' load
+    # components: the platen moved by -travel along the load slides by travel times them
+    first = model.insert_nodes.size
+    on_top = slice(first, min(friction.stiffness.size, first + start[1].n_gaps))
+    top_cosine = along(start[1], load, n_points)
+    slip_cosines = np.column_stack([along(rows[on_top], load, n_points)
+                                    for rows in friction.slips])  # fmt: skip
     for level, travel in enumerate(travels):
         sets = gap_sets(travel)
-        top = sets[1]
-        state = solve_frictional_step(model.stiffness, sets, friction, anchor, fixed_dofs=fixed,
-                                      initial_active=active, where=where, reuse=kept)  # fmt: skip
+        moved = np.zeros_like(anchor)
+        moved[on_top] = travel * slip_cosines
+        state = solve_frictional_step(model.stiffness, sets, replace(friction, initial=moved),
+                                      anchor, fixed_dofs=fixed, initial_active=active,
+                                      where=where, reuse=kept)  # fmt: skip
         anchor, active = state.anchor, state.solution.active
         solves += state.solution.iterations
-        if level == 0:
-            top_cosine = along(top, load, n_points)
-        force[level] = -(state.solution.forces[1] * top_cosine).sum()
+        force[level] = (-(state.solution.forces[1] * top_cosine).sum()
+                        + (state.traction[on_top] * slip_cosines).sum())  # fmt: skip
         upper[level], lower[level] = halves(state.solution.forces[0], insert_cosine)
     return CompressionCurve(orientation_deg, travels, force, upper, lower, solves,
                             kept.factorisations + reuse.factorisations)  # fmt: skip
@@ -581,9 +646,10 @@ def table2_loads(curves: Sequence[CompressionCurve],
 def run_barrel_compression(model: BarrelModel, prestress: Prestress,
                            options: BarrelTestOptions) -> BarrelResult:  # fmt: skip
     """The compression at every orientation of ``options`` from the pre-stressed state."""
-    if options.friction > 0.0:
+    if options.frictional:
         curves = tuple(compress_barrel_with_friction(model, prestress, options, angle,
-                                                     options.friction)
+                                                     options.friction,
+                                                     platen_mu=options.platen_friction)
                        for angle in options.orientations_deg)  # fmt: skip
     else:
         curves = tuple(

@@ -53,7 +53,11 @@ import numba as nb
 import numpy as np
 
 from batball.contact.columns import ColumnContact
-from batball.contact.rigid import RigidCylinder, add_rigid_contact_forces
+from batball.contact.rigid import (
+    RigidCylinder,
+    add_rigid_contact_forces,
+    add_rigid_friction_forces,
+)
 from batball.elements.shell_bt import initial_force_state
 from batball.elements.shell_corotational import SHELLS, CorotationalShellForces, checked_shells
 from batball.elements.shell_stiffness import shell_section
@@ -278,6 +282,10 @@ class Platens:
     params: np.ndarray
     load: np.ndarray
 
+    def motion(self) -> np.ndarray:
+        """Each candidate's platen displacement per unit of commanded travel, (n, 3)."""
+        return np.repeat(self.params[:, 11:14], np.diff(self.offsets), axis=0)
+
 
 def surface_points(state: ExplicitBat, nodes: np.ndarray) -> np.ndarray:
     """The outer surface over ``nodes``: mid-surface pushed out radially by its offset (m)."""
@@ -347,6 +355,31 @@ def insert_split(state: ExplicitBat, contact: np.ndarray, load: np.ndarray) -> t
     return halves(np.linalg.norm(contact[nodes], axis=1), radial_cosines(state.points[nodes], load))
 
 
+def platen_friction_forces(state: ExplicitBat, platens: Platens, mu: float, moved: float,
+                           friction: np.ndarray, platen_forces: np.ndarray, forces: np.ndarray,
+                           reaction: np.ndarray) -> None:  # fmt: skip
+    """Coulomb friction ``mu`` between the platens and the barrel's outer surface, added to
+    ``forces`` (n, 6): the slip over the last step is the platens' motion (``moved``, the
+    commanded travel since the last call [m]) minus the surface's, the node's velocity plus its
+    spin about the surface's offset along the current radial direction, times the step; the
+    stick spring is the platen's penalty (as the insert contact's); the force acts at the
+    surface, so its moment about the node goes to the rotations. ``friction`` (n_candidates, 3)
+    [N] is the state; ``platen_forces`` holds the normal forces, and the friction is added to it
+    too, and its reaction to the platens' ``reaction`` (2, 3) [N]."""
+    nodes, dt = platens.nodes, state.bat.stable_step
+    p = state.points[nodes]
+    arm = np.zeros_like(p)
+    arm[:, 1:] = p[:, 1:] * (state.surface_offset[nodes] / np.hypot(p[:, 1], p[:, 2]))[:, None]
+    velocity = state.velocity[nodes]
+    slip = moved * platens.motion() - dt * (velocity[:, :3] + np.cross(velocity[:, 3:], arm))
+    before = platen_forces.copy()
+    add_rigid_friction_forces(before, slip, mu, platens.stiffness, friction, platen_forces)
+    added = platen_forces - before
+    forces[nodes, 3:] += np.cross(arm, added)
+    for k in range(reaction.shape[0]):
+        reaction[k] -= added[platens.offsets[k]:platens.offsets[k + 1]].sum(axis=0)
+
+
 def squeeze(state: ExplicitBat, test: BarrelTestOptions, options: ExplicitBarrelOptions,
             orientation_deg: float, *, curve: bool) -> ExplicitCurve:  # fmt: skip
     """Close the platens level by level from the pre-stressed state (module docs); the state is
@@ -360,12 +393,13 @@ def squeeze(state: ExplicitBat, test: BarrelTestOptions, options: ExplicitBarrel
     mass, dt = state.bat.mass, state.bat.stable_step
     forces, contact = np.zeros_like(state.velocity), np.zeros_like(state.points)
     platen_forces = np.zeros((platens.nodes.size, 3))
+    friction = np.zeros_like(platen_forces)
     reaction, penetration = np.zeros((2, 3)), np.zeros(2)
     travels = test.travels(curve=curve)
     n = travels.size
     force, upper, lower = np.zeros(n), np.zeros(n), np.zeros(n)
     ratio, drift, error = np.zeros(n), np.zeros(n), np.zeros(n)
-    filtered, commanded, cycles = 0.0, 0.0, 0
+    filtered, commanded, cycles, last_commanded = 0.0, 0.0, 0, 0.0
     blend = min(1.0, dt / options.feedback_time)
     candidates = np.arange(platens.nodes.size)  # the kernel's node list, into platens.nodes
     previous = 0.0
@@ -385,6 +419,11 @@ def squeeze(state: ExplicitBat, test: BarrelTestOptions, options: ExplicitBarrel
                                      candidates, platens.stiffness, platens.offsets,
                                      platens.kinds, platens.params, platen_forces, reaction,
                                      penetration)  # fmt: skip
+            if test.platen_friction > 0.0:
+                platen_friction_forces(state, platens, test.platen_friction,
+                                       commanded - last_commanded, friction, platen_forces,
+                                       forces, reaction)  # fmt: skip
+                last_commanded = commanded
             forces[platens.nodes, :3] += platen_forces
             kinetic = relaxation_step(forces, mass, state.velocity, state.points,
                                       options.damping, dt, axial, on_axis, sideways)  # fmt: skip

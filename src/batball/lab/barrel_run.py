@@ -151,6 +151,7 @@ def table2_summary(spec: BatSpec, curves: list[CompressionCurve],
             "orientation_deg": curve.orientation_deg,
         },  # fmt: skip
         "insert_friction": options.friction,
+        "platen_friction": options.platen_friction,
         "platen_diameter_in": options.platen_diameter / IN,
         "platen_from_cap_in": options.distance_from_cap / IN,
     }

@@ -410,19 +410,32 @@ class CoulombFriction:
 
     Attributes:
         slips: the tangent rows T_d, each (n_pairs, n_dofs).
-        normal_set: index of the normal gaps (one per pair) among the solve's gap sets.
+        normal_sets: where each pair's normal force comes from, in blocks of pairs: block b's
+            pairs take the summed forces of the gap sets listed in ``normal_sets[b]`` (indices
+            among the solve's gap sets, of equal sizes; a contact split into sets with
+            complementary penalties is listed whole), the blocks' pairs in order.
         stiffness: stick penalty k_t per pair, (n_pairs,), N/m.
-        mu: friction coefficient (>= 0).
+        mu: friction coefficient (>= 0), one for all pairs or one per pair (n_pairs,).
+        initial: s0, the slips at u = 0 (n_pairs, n_directions) [m], or None for none: a
+            prescribed motion of a rigid master (a platen moved along the load slides over a
+            point whose normal is tilted from the load).
     """
 
     slips: tuple[sp.csr_matrix, ...]
-    normal_set: int
+    normal_sets: tuple[tuple[int, ...], ...]
     stiffness: np.ndarray
-    mu: float
+    mu: float | np.ndarray
+    initial: np.ndarray | None = None
 
     def slip(self, u: np.ndarray) -> np.ndarray:
-        """s of each pair and direction, (n_pairs, n_directions), m."""
-        return np.column_stack([t @ u for t in self.slips])
+        """s = s0 + T u of each pair and direction, (n_pairs, n_directions), m."""
+        s = np.column_stack([t @ u for t in self.slips])
+        return s if self.initial is None else s + self.initial
+
+    def normal_forces(self, gap_sets: Sequence[PenaltyGaps], u: np.ndarray) -> np.ndarray:
+        """Each pair's compressive normal force, (n_pairs,), N (tension counts as 0)."""
+        blocks = [sum(gap_sets[i].forces(u) for i in block) for block in self.normal_sets]
+        return np.maximum(np.concatenate(blocks), 0.0)
 
 
 @dataclass(frozen=True)
@@ -489,7 +502,7 @@ class FrictionProblem:
         gaps = [g.gaps(u) for g in self.gap_sets]
         closed = [np.where(b, g < h, g < -h) | s.bilateral
                   for g, b, s in zip(gaps, before, self.gap_sets, strict=True)]  # fmt: skip
-        limit = friction.mu * np.maximum(self.gap_sets[friction.normal_set].forces(u), 0.0)
+        limit = friction.mu * friction.normal_forces(self.gap_sets, u)
         trial = k_t[:, None] * (friction.slip(u) - self.anchor)
         size = np.linalg.norm(trial, axis=1)
         sticks = size <= limit
@@ -572,9 +585,10 @@ def solve_frictional_step(
 
     # the elastic predictor: every pair sticks at its anchor, the active set from the guess
     matrix, rhs = penalty_system(stiffness, gap_sets, active)
+    held = anchor if friction.initial is None else anchor - friction.initial
     for d, rows in enumerate(friction.slips):
         matrix = matrix + rows.T @ sp.diags(k_t) @ rows
-        rhs += rows.T @ (k_t * anchor[:, d])
+        rhs += rows.T @ (k_t * held[:, d])
     u = solve_with_kept_factor(sp.csr_matrix(matrix), rhs + f, free, kept, where)
     now = problem.iterate(u, active)
     for iteration in range(1, max_iterations + 1):

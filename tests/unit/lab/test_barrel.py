@@ -193,6 +193,10 @@ def test_cli_runs_the_squeeze_with_friction_and_refuses_a_negative_one(
     assert rubbing["preload_lbf"] > frictionless["preload_lbf"]  # sticking stiffens the start
     assert main([*base, "--friction", "-0.1"]) == 2
     assert "friction" in capsys.readouterr().err
+    assert main([*base, "--platen-friction", "0.3"]) == 0
+    assert json.loads(capsys.readouterr().out)["platen_friction"] == 0.3
+    assert main([*base, "--platen-friction", "11"]) == 2
+    assert "platen_friction: 11" in capsys.readouterr().err
 
 
 def test_cli_runs_the_explicit_squeeze_into_its_own_folder(

@@ -27,7 +27,8 @@ def slider() -> tuple[sp.csr_matrix, list[PenaltyGaps], CoulombFriction]:
                          np.array([-OVERLAP]), np.array([K_N]))  # fmt: skip
     slips = (gap_matrix(NODES, WEIGHTS, np.array([[1.0, 0.0, 0.0]]), 2),
              gap_matrix(NODES, WEIGHTS, np.array([[0.0, 0.0, 1.0]]), 2))  # fmt: skip
-    return sp.diags(diagonal).tocsr(), [normal], CoulombFriction(slips, 0, np.array([K_T]), MU)
+    friction = CoulombFriction(slips, ((0,),), np.array([K_T]), MU)
+    return sp.diags(diagonal).tocsr(), [normal], friction
 
 
 def step(pull: float, anchor: np.ndarray):  # noqa: ANN201
