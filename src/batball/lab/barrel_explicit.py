@@ -17,9 +17,11 @@ each travel level held until the bat stops moving.
   :func:`batball.lab.bbs.bat_part` and :func:`batball.lab.bbs.insert_barrel_contact`; the fit
   is pressed in first, frictionless, by the same ramp-and-settle as the BBS test. Optional
   Coulomb friction at the insert during the squeeze (:meth:`ColumnContact.start_friction`).
-  The MITC4 shells take the statics' section of the same laminates; the step stays the BT
-  shells' estimate, checked against the MITC4 shells' highest frequency
-  (:func:`batball.elements.shell_corotational.check_time_step`).
+  The MITC4 shells take the statics' section of the same laminates and their own step,
+  ``step_factor`` (0.8) times their critical step 2 / omega_max (Lanczos on the mass-scaled
+  lumped masses, :func:`batball.elements.shell_corotational.shells_and_step`), about 1.45
+  times the BT shells' estimate that the BBS test takes. Optional Coulomb friction at the
+  platens too (``BarrelTestOptions.platen_friction``, :func:`platen_friction_forces`).
 * **Platens:** rigid half-cylinders (:class:`batball.contact.rigid.RigidCylinder`, 3.3 in) across
   the bat ``distance_from_cap`` from the end cap, touching the pre-stressed outer surface (the
   nodes' mid-surface pushed out to the spec's outer radius along their current radial
@@ -27,7 +29,9 @@ each travel level held until the bat stops moving.
   travel is what the test measures, and a fixed bottom platen would make the whole 34-in bat
   translate by half the travel, a rigid motion that relaxation settles only over the handle's
   slow bending (tens of ms). Penalty k = ``contact_scale`` m / dt^2 per node (the stability
-  form of LS-DYNA's SOFT = 1), m the node's mass. The penalty's own compliance is removed by
+  form of LS-DYNA's SOFT = 1), m the node's mass, dt the BT shells' step estimate with either
+  shell, so that the MITC4 shells' longer step does not soften it (halving k raised the final
+  load by 1.4 % on the full mesh, docs/barrel.md). The penalty's own compliance is removed by
   moving the platens on by the deepest penetrations (low-pass filtered), so the reported travel
   is that of the surface under the platens, as the static test's stiff penalty gives.
 * **Supports:** the seed's (Figures 11-12), as the static test: the barrel and insert rings
@@ -46,7 +50,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numba as nb
@@ -59,7 +63,12 @@ from batball.contact.rigid import (
     add_rigid_friction_forces,
 )
 from batball.elements.shell_bt import initial_force_state
-from batball.elements.shell_corotational import SHELLS, CorotationalShellForces, checked_shells
+from batball.elements.shell_corotational import (
+    SHELLS,
+    STEP_FACTOR,
+    CorotationalShellForces,
+    shells_and_step,
+)
 from batball.elements.shell_stiffness import shell_section
 from batball.errors import SimulationError, SpecError
 from batball.lab.barrel import (
@@ -97,7 +106,8 @@ class ExplicitBarrelOptions:
         travel_rate: platen closing speed while moving [m/s] (both platens together).
         hold_time: how long each travel level is held before it is read [s].
         average_fraction: the last part of a hold whose mean force is the reading.
-        contact_scale: platen penalty over m / dt^2 (module docs).
+        contact_scale: platen penalty over m / dt^2, dt the BT shells' step estimate whichever
+            shells run (module docs).
         feedback_time: time constant of the penetration filter that moves the platens on [s].
         mass_scaling: as :class:`batball.lab.bbs.BbsSetup` ("barrel", a step in s, or None).
         damping: mass-proportional damping of the relaxation [1/s] (module docs).
@@ -106,6 +116,9 @@ class ExplicitBarrelOptions:
         shell: the explicit element: "mitc4", the statics' MITC4 shell made co-rotational
             (:mod:`batball.elements.shell_corotational`; no hourglass modes), or "bt", the BBS
             test's Belytschko-Tsay shells with ``hourglass_ratio``.
+        step_factor: with the MITC4 shells, the step over their own critical step (Lanczos on
+            the lumped masses, mass scaling included; :func:`batball.elements.
+            shell_corotational.shells_and_step`); the BT shells take the BBS test's step.
     """
 
     circumferential: int = 48
@@ -120,8 +133,11 @@ class ExplicitBarrelOptions:
     fit_slsfac: float = 0.1
     hourglass_ratio: float = 1.0
     shell: str = "mitc4"
+    step_factor: float = STEP_FACTOR
 
     def __post_init__(self) -> None:
+        if not (np.isfinite(self.step_factor) and 0.0 < self.step_factor <= 0.9):
+            raise SpecError("step_factor", self.step_factor, "0 < factor <= 0.9")
         check_hourglass_ratio("hourglass_ratio", self.hourglass_ratio)
         if self.shell not in SHELLS:
             raise SpecError("shell", self.shell, " or ".join(SHELLS))
@@ -162,6 +178,7 @@ class ExplicitBat:
     fit_pressure: float = float("nan")  # mean insert-barrel pressure after the fit [Pa]
     fit_pressure_force: float = float("nan")  # the fit's total normal force [N]
     fit_reused: bool = False  # the fit was restored from a store, not relaxed in this run
+    penalty_step: float = float("nan")  # the BT shells' step estimate: the platens' penalty [s]
 
     def __post_init__(self) -> None:
         self.spin = np.zeros_like(self.points)
@@ -188,6 +205,7 @@ def build_explicit_bat(spec: BatSpec, options: ExplicitBarrelOptions) -> Explici
         raise SpecError("insert", None, "a double-wall bat with an [insert] table")
     setup = options.bbs_setup()
     bat, mesh, _ = bat_part(spec, setup)
+    penalty_step = bat.stable_step
     fit = insert_barrel_contact(spec, bat, mesh, setup)
     radius = np.hypot(mesh.points[:, 1], mesh.points[:, 2])
     offset = np.asarray(spec.outer_radius(mesh.points[:, 0])) - radius
@@ -195,14 +213,16 @@ def build_explicit_bat(spec: BatSpec, options: ExplicitBarrelOptions) -> Explici
     velocity = np.zeros((mesh.n_points, 6))
     shells: ShellForces | CorotationalShellForces
     if options.shell == "mitc4":
-        shells = checked_shells(mesh.points, mesh.cells, shell_section(*bat_laminates(spec, mesh)),
-                                bat.mass, bat.stable_step)  # fmt: skip
+        shells, step = shells_and_step(mesh.points, mesh.cells,
+                                       shell_section(*bat_laminates(spec, mesh)), bat.mass,
+                                       factor=options.step_factor)  # fmt: skip
+        bat = replace(bat, stable_step=step)
     else:
         shells = ShellForces(bat, initial_force_state(bat.section),
                              hourglass_ratio=options.hourglass_ratio)  # fmt: skip
     return ExplicitBat(spec, bat, outer_rings(mesh).ravel(), mesh.point_sets["insert"], points,
                        velocity, shells, fit, offset, mesh.points,
-                       mesh.cells[mesh.cell_sets["insert"]])  # fmt: skip
+                       mesh.cells[mesh.cell_sets["insert"]], penalty_step=penalty_step)  # fmt: skip
 
 
 @nb.njit(cache=True)
@@ -303,7 +323,6 @@ def make_platens(state: ExplicitBat, test: BarrelTestOptions, orientation_deg: f
     centre_x = state.spec.length - test.distance_from_cap
     points = state.points
     near = np.abs(points[state.outer, 0] - centre_x) < radius
-    dt = state.bat.stable_step
     nodes, kinds, params, offsets = [], [], [], [0]
     for side in (1.0, -1.0):
         mine = state.outer[near & (side * (points[state.outer] @ load) > 0.0)]
@@ -322,7 +341,7 @@ def make_platens(state: ExplicitBat, test: BarrelTestOptions, orientation_deg: f
         params.append(packed)
         offsets.append(offsets[-1] + mine.size)
     all_nodes = np.concatenate(nodes)
-    stiffness = contact_scale * state.bat.mass[all_nodes, 0] / dt**2
+    stiffness = contact_scale * state.bat.mass[all_nodes, 0] / state.penalty_step**2
     return Platens(all_nodes, stiffness, np.array(offsets), np.array(kinds), np.array(params),
                    load)  # fmt: skip
 
