@@ -515,8 +515,10 @@ def with_platen_friction(model: BarrelModel, options: BarrelTestOptions, orienta
     and the barrel's outer surface, along the platens' axes and around them, on the gap sets
     of :func:`compress_barrel_with_friction` (1: the top platen; 2 and 3: the bottom one, split
     in two); the stick spring of each pair is ``stick_factor`` times its normal penalty. The
-    platens are rigid and move only along the load, so a pair's slip is the barrel surface's
-    own tangential motion, rotations times the wall's offset included."""
+    rows are minus the barrel surface's tangential motion, rotations times the wall's offset
+    included; the platens' own sliding over the points beside the apex (they move along the
+    load, not along those points' normals) is the prescribed slip that
+    :func:`compress_barrel_with_friction` adds at each travel."""
     if not (np.isfinite(mu) and mu >= 0.0):
         raise SpecError("platen_friction", mu, "a coefficient >= 0")
     _, sideways = load_axes(orientation_deg)
@@ -586,8 +588,9 @@ def compress_barrel_with_friction(
     fitted = solve_static_contact(model.stiffness, start, fixed_dofs=fixed,
                                   initial_active=active, where=where, reuse=reuse)  # fmt: skip
     anchor, active = friction.slip(fitted.u), fitted.active
-    # the top platen's pairs (after the insert's, if it has friction) and their slips' load
-    # components: the platen moved by -travel along the load slides by travel times them
+    # the top platen's pairs (after the insert's; none without platen friction) and their
+    # slips' load components: the platen moved by -travel along the load slides by travel
+    # times them
     first = model.insert_nodes.size
     on_top = slice(first, min(friction.stiffness.size, first + start[1].n_gaps))
     top_cosine = along(start[1], load, n_points)
