@@ -51,6 +51,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from functools import cached_property
 from pathlib import Path
 
 import numba as nb
@@ -302,8 +303,10 @@ class Platens:
     params: np.ndarray
     load: np.ndarray
 
+    @cached_property
     def motion(self) -> np.ndarray:
-        """Each candidate's platen displacement per unit of commanded travel, (n, 3)."""
+        """Each candidate's platen displacement per unit of commanded travel, (n, 3) (built
+        once: the friction reads it every cycle)."""
         return np.repeat(self.params[:, 11:14], np.diff(self.offsets), axis=0)
 
 
@@ -386,11 +389,9 @@ def platen_friction_forces(state: ExplicitBat, platens: Platens, mu: float, move
     [N] is the state; ``platen_forces`` holds the normal forces, and the friction is added to it
     too, and its reaction to the platens' ``reaction`` (2, 3) [N]."""
     nodes, dt = platens.nodes, state.bat.stable_step
-    p = state.points[nodes]
-    arm = np.zeros_like(p)
-    arm[:, 1:] = p[:, 1:] * (state.surface_offset[nodes] / np.hypot(p[:, 1], p[:, 2]))[:, None]
+    arm = surface_points(state, nodes) - state.points[nodes]  # the surface's offset
     velocity = state.velocity[nodes]
-    slip = moved * platens.motion() - dt * (velocity[:, :3] + np.cross(velocity[:, 3:], arm))
+    slip = moved * platens.motion - dt * (velocity[:, :3] + np.cross(velocity[:, 3:], arm))
     before = platen_forces.copy()
     add_rigid_friction_forces(before, slip, mu, platens.stiffness, friction, platen_forces)
     added = platen_forces - before
