@@ -1,43 +1,72 @@
-"""Fit chosen bat parameters to measured mass properties (weight, balance point, MOI).
+"""Fit chosen bat parameters to measurements: mass properties (seed Table 1) or hoop modes (3).
 
 A free parameter is named as the user types it:
 
 * ``lumped_mass:<part>``: the lumped (non-structural) mass of a part, e.g. ``lumped_mass:endcap``;
 * ``thickness:<label>``: the common thickness of every ply labelled ``<label>`` in the layups,
-  e.g. ``thickness:handle-glass``.
+  e.g. ``thickness:handle-glass``;
+* ``angle:<label>``: the common fibre (braid half-) angle of those plies, e.g.
+  ``angle:barrel-carbon``.
 
-The residuals are the relative misfits of weight, balance point and MOI about the pivot;
-:func:`scipy.optimize.least_squares` (trust-region reflective, bounds keep masses >= 0 and plies
-thicker than 0.001 in) drives them to zero when as many parameters as targets are free. Each
-evaluation remeshes the bat, so a thickness moves the mid-surface exactly as the final mesh does.
+``thickness`` and ``angle`` may be restricted to some parts: ``angle:barrel-carbon@barrel-1+
+barrel-2+barrel-3+endcap`` changes the labelled plies of those four parts only (``insert`` names
+the insert's layup). A braid laid on a mandrel of varying diameter changes its angle with the
+diameter, so the barrel's braid angle need not be the taper's.
+
+Two kinds of target (:class:`MassTargets`, :class:`HoopTargets`); the residuals are relative
+misfits, and :func:`scipy.optimize.least_squares` (trust-region reflective; bounds keep masses
+>= 0, plies thicker than 0.001 in and angles within 0..90 deg) drives them to zero when as many
+parameters as targets are free, or to their least squares when fewer are. Each evaluation
+remeshes the bat, so a thickness moves the mid-surface exactly as the final mesh does.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
-from batball.errors import SpecError
-from batball.lab.props import DEFAULT_PIVOT, MassProperties, bat_mass_properties
+from batball.errors import SimulationError, SpecError
+from batball.lab.props import DEFAULT_PIVOT, bat_mass_properties
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.specs.bat import BatSpec, PartSpec, PlySpec
 
-#: The kinds of free parameter, with their lower bound (SI) and a typical size for scaling.
-PARAMETER_KINDS: dict[str, tuple[float, float]] = {
-    "lumped_mass": (0.0, 0.028349523125),  # kg; 1 oz
-    "thickness": (0.001 * 0.0254, 0.01 * 0.0254),  # m; 0.001 in, 0.01 in
+_OZ, _IN = 0.028349523125, 0.0254
+
+
+@dataclass(frozen=True)
+class ParameterKind:
+    """Bounds (SI), a typical size for scaling (SI), and the unit a person reads."""
+
+    lower: float
+    upper: float
+    typical: float
+    unit: str
+
+
+#: The kinds of free parameter.
+PARAMETER_KINDS: dict[str, ParameterKind] = {
+    "lumped_mass": ParameterKind(0.0, math.inf, _OZ, "oz"),
+    "thickness": ParameterKind(0.001 * _IN, math.inf, 0.01 * _IN, "in"),
+    "angle": ParameterKind(0.0, 0.5 * math.pi, math.radians(10.0), "deg"),
 }
 
-#: Relative misfit below which a target counts as met.
+#: Relative misfit below which a target counts as met (as many parameters as targets).
 MATCH_TOLERANCE = 1e-6
 
-#: The parameters ``batball fit-bat`` frees by default on the embedded bat.
+#: The parameters ``batball fit-bat`` frees by default on the embedded bat, per target kind:
+#: the mass properties take the end-cap plug and the two labelled ply thicknesses; the hoop
+#: modes take the braid angle of the barrel's carbon on the full-diameter parts.
 DEFAULT_FREE = ("lumped_mass:endcap", "thickness:handle-glass", "thickness:barrel-carbon")
+DEFAULT_HOOP_FREE = ("angle:barrel-carbon@barrel-1+barrel-2+barrel-3+endcap",)
+
+_FREE_TEXT = ("lumped_mass:<part>, thickness:<ply label>[@<part>+...] or "
+              "angle:<ply label>[@<part>+...]")
 
 
 @dataclass(frozen=True)
@@ -46,49 +75,82 @@ class FreeParameter:
 
     Attributes:
         kind: a key of :data:`PARAMETER_KINDS`.
-        target: the part name (``lumped_mass``) or the ply label (``thickness``).
+        target: the part name (``lumped_mass``) or the ply label (``thickness``, ``angle``).
+        parts: the parts whose labelled plies change (``"insert"`` for the insert); empty: all.
     """
 
     kind: str
     target: str
+    parts: tuple[str, ...] = ()
 
     @classmethod
     def parse(cls, text: str, *, field: str = "free") -> FreeParameter:
-        """``"lumped_mass:endcap"`` -> FreeParameter("lumped_mass", "endcap")."""
-        kind, _, target = text.partition(":")
-        if kind not in PARAMETER_KINDS or not target:
-            raise SpecError(field, text, "lumped_mass:<part> or thickness:<ply label>")
-        return cls(kind, target)
+        """``"lumped_mass:endcap"`` -> FreeParameter("lumped_mass", "endcap");
+        ``"angle:c@barrel-1+endcap"`` -> FreeParameter("angle", "c", ("barrel-1", "endcap"))."""
+        kind, _, rest = text.partition(":")
+        target, at, parts = rest.partition("@")
+        names = tuple(parts.split("+")) if at else ()
+        if kind not in PARAMETER_KINDS or not target or any(not n for n in names) or (
+            names and kind == "lumped_mass"
+        ):
+            raise SpecError(field, text, _FREE_TEXT)
+        return cls(kind, target, names)
 
     def __str__(self) -> str:
-        return f"{self.kind}:{self.target}"
+        return f"{self.kind}:{self.target}" + ("@" + "+".join(self.parts) if self.parts else "")
+
+    def _plies(self, spec: BatSpec) -> list[PlySpec]:
+        """The plies this parameter sets (labelled ``target``, in ``parts``)."""
+        known = {p.name for p in spec.parts} | ({"insert"} if spec.insert is not None else set())
+        for name in self.parts:
+            if name not in known:
+                raise SpecError("free", str(self), f"parts of the bat: {', '.join(sorted(known))}")
+        return [ply for layup in self._layups(spec) for ply in layup if ply.label == self.target]
+
+    def _layups(self, spec: BatSpec) -> list[tuple[PlySpec, ...]]:
+        layups = [part.layup for part in spec.parts if self._selects(part.name)]
+        if spec.insert is not None and self._selects("insert"):
+            layups.append(spec.insert.layup)
+        return layups
+
+    def _selects(self, name: str) -> bool:
+        return not self.parts or name in self.parts
 
     def value(self, spec: BatSpec) -> float:
-        """The current value in ``spec`` (kg or m).
+        """The current value in ``spec`` (kg, m or rad).
 
         Raises:
-            SpecError: no such part or label, or labelled plies of unequal thickness.
+            SpecError: no such part or label, or labelled plies of unequal values.
         """
         if self.kind == "lumped_mass":
             return spec.part(self.target).lumped_mass
-        thicknesses = {p.thickness for p in _all_plies(spec) if p.label == self.target}
-        if len(thicknesses) != 1:
+        plies = self._plies(spec)
+        values = {p.thickness if self.kind == "thickness" else abs(p.angle) for p in plies}
+        if len(values) != 1:
             labels = sorted({p.label for p in _all_plies(spec) if p.label})
-            allowed = f"a label of plies of one thickness; labels: {', '.join(labels) or 'none'}"
+            allowed = (f"a label of plies of one {self.kind} in the parts named; labels: "
+                       f"{', '.join(labels) or 'none'}")  # fmt: skip
             raise SpecError("free", str(self), allowed)
-        return thicknesses.pop()
+        return values.pop()
 
     def apply(self, spec: BatSpec, value: float) -> BatSpec:
-        """A copy of ``spec`` with this parameter set to ``value`` (kg or m)."""
+        """A copy of ``spec`` with this parameter set to ``value`` (kg, m or rad; an angle keeps
+        each ply's sign)."""
         if self.kind == "lumped_mass":
             parts = tuple(
                 dataclasses.replace(p, lumped_mass=value) if p.name == self.target else p
                 for p in spec.parts
             )
             return dataclasses.replace(spec, parts=parts)
-        return _replace_layups(spec, lambda ply: (
-            dataclasses.replace(ply, thickness=value) if ply.label == self.target else ply
-        ))  # fmt: skip
+
+        def change(ply: PlySpec) -> PlySpec:
+            if ply.label != self.target:
+                return ply
+            if self.kind == "thickness":
+                return dataclasses.replace(ply, thickness=value)
+            return dataclasses.replace(ply, angle=math.copysign(value, ply.angle))
+
+        return _replace_layups(spec, change, self._selects)
 
 
 def _all_plies(spec: BatSpec) -> list[PlySpec]:
@@ -97,16 +159,53 @@ def _all_plies(spec: BatSpec) -> list[PlySpec]:
     return plies + (list(spec.insert.layup) if spec.insert is not None else [])
 
 
-def _replace_layups(spec: BatSpec, change: Callable[[PlySpec], PlySpec]) -> BatSpec:
-    """``spec`` with ``change(ply)`` applied to every ply (parts and insert)."""
+def _replace_layups(spec: BatSpec, change: Callable[[PlySpec], PlySpec],
+                    selects: Callable[[str], bool]) -> BatSpec:  # fmt: skip
+    """``spec`` with ``change(ply)`` applied to every ply of the selected parts (and insert)."""
 
     def layup(part: PartSpec) -> PartSpec:
+        if not selects(part.name):
+            return part
         return dataclasses.replace(part, layup=tuple(change(p) for p in part.layup))
 
     insert = spec.insert
-    if insert is not None:
+    if insert is not None and selects("insert"):
         insert = dataclasses.replace(insert, layup=tuple(change(p) for p in insert.layup))
     return dataclasses.replace(spec, parts=tuple(layup(p) for p in spec.parts), insert=insert)
+
+
+@dataclass(frozen=True)
+class MeshOptions:
+    """The bat mesh every evaluation of a fit uses."""
+
+    circumferential: int = DEFAULT_CIRCUMFERENTIAL
+    axial_size: float = DEFAULT_AXIAL_SIZE
+
+
+class FitTargets(Protocol):
+    """What a fit matches: named measured values and how to compute them for a bat.
+
+    ``names`` carry their unit (``"weight_oz"``); ``wanted`` and ``achieved`` are in those
+    units; the residuals are ``achieved / wanted - 1``. ``diff_step`` and ``tolerance`` are
+    the optimiser's relative finite-difference step and its x, f and gradient tolerance.
+    """
+
+    @property
+    def names(self) -> tuple[str, ...]: ...
+
+    @property
+    def wanted(self) -> tuple[float, ...]: ...
+
+    @property
+    def description(self) -> str: ...
+
+    @property
+    def diff_step(self) -> float: ...
+
+    @property
+    def tolerance(self) -> float: ...
+
+    def achieved(self, spec: BatSpec, mesh: MeshOptions) -> tuple[float, ...]: ...
 
 
 @dataclass(frozen=True)
@@ -124,14 +223,82 @@ class MassTargets:
     balance_point: float
     moi_pivot: float
     pivot: float = DEFAULT_PIVOT
+    diff_step: float = 1e-7
+    tolerance: float = 1e-12
 
-    def residuals(self, props: MassProperties) -> np.ndarray:
-        """Relative misfits (weight, balance point, MOI), shape (3,)."""
-        return np.array([
-            props.mass / self.weight - 1.0,
-            props.balance_point / self.balance_point - 1.0,
-            props.moi_pivot / self.moi_pivot - 1.0,
-        ])  # fmt: skip
+    names = ("weight_oz", "balance_point_in", "moi_pivot_oz_in2")
+    description = "weight, balance point and MOI"
+
+    @property
+    def wanted(self) -> tuple[float, ...]:
+        return (self.weight / _OZ, self.balance_point / _IN, self.moi_pivot / (_OZ * _IN**2))
+
+    def achieved(self, spec: BatSpec, mesh: MeshOptions) -> tuple[float, ...]:
+        props, _ = bat_mass_properties(spec, circumferential=mesh.circumferential,
+                                       axial_size=mesh.axial_size, pivot=self.pivot)  # fmt: skip
+        return (props.mass / _OZ, props.balance_point / _IN, props.moi_pivot / (_OZ * _IN**2))
+
+
+#: Seed Table 3's measured hoop frequencies, Hz.
+SEED_HOOP_HZ = (1450.0, 1950.0)
+
+
+@dataclass(frozen=True)
+class HoopTargets:
+    """Measured free-free hoop (n = 2 ovalling) frequencies of the barrel to match, Hz.
+
+    Each evaluation is a modal analysis (:func:`batball.lab.modal.bat_modes`, ``n_modes``
+    lowest, ``insert`` model); the k-th target is the k-th distinct hoop frequency. With
+    ``runs_dir`` each evaluation's frequencies are stored under ``runs_dir/fit-hoop-<hash>/``,
+    so an interrupted fit run again replays the finished ones instead of recomputing them.
+
+    The finite-difference step (1e-4 of the parameter, 0.003 deg of a 30-deg braid) is far
+    above the eigensolver's round-off and small beside the frequencies' curvature.
+    """
+
+    hoop_hz: tuple[float, ...] = SEED_HOOP_HZ
+    insert: str = "contact"
+    n_modes: int = 30
+    runs_dir: Path | None = None
+    diff_step: float = 1e-4
+    tolerance: float = 1e-8
+
+    description = "hoop frequencies"
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(f"hoop_{k + 1}_hz" for k in range(len(self.hoop_hz)))
+
+    @property
+    def wanted(self) -> tuple[float, ...]:
+        return self.hoop_hz
+
+    def achieved(self, spec: BatSpec, mesh: MeshOptions) -> tuple[float, ...]:
+        from batball import __version__
+        from batball.io.store import load_cached_summary, run_folder, write_summary
+        from batball.lab.modal import bat_modes
+        from batball.specs.bat import bat_spec_to_toml_dict
+
+        folder = None
+        if self.runs_dir is not None:
+            inputs = {"bat": bat_spec_to_toml_dict(spec), "mesh": dataclasses.asdict(mesh),
+                      "n_modes": self.n_modes, "insert": self.insert, "batball": __version__}
+            folder = run_folder(self.runs_dir, "fit-hoop", inputs)
+            cached = load_cached_summary(folder)
+            if cached is not None:
+                return tuple(cached["hoop_hz"])
+        modes = bat_modes(spec, circumferential=mesh.circumferential,
+                          axial_size=mesh.axial_size, n_modes=self.n_modes, insert=self.insert)
+        found = modes.first("hoop", len(self.hoop_hz))
+        if len(found) < len(self.hoop_hz):
+            raise SimulationError(
+                f"fit-bat: bat {spec.name!r} has {len(found)} distinct hoop modes among its "
+                f"{self.n_modes} lowest, {len(self.hoop_hz)} wanted; ask for more modes"
+            )
+        hoop = tuple(float(modes.frequencies[i]) for i in found)
+        if folder is not None:
+            write_summary(folder, {"bat": spec.name, "hoop_hz": list(hoop)})
+        return hoop
 
 
 @dataclass(frozen=True)
@@ -141,11 +308,11 @@ class BatFit:
     Attributes:
         spec: the bat with the fitted values.
         parameters: the free parameters.
-        initial: their starting values, kg or m.
-        values: their fitted values, kg or m.
-        properties: the fitted bat's mass properties.
-        residuals: relative misfits (weight, balance point, MOI).
-        n_evaluations: mass-property evaluations used.
+        initial: their starting values, SI.
+        values: their fitted values, SI.
+        achieved: the fitted bat's values of the targets, in the targets' units.
+        residuals: relative misfits, one per target.
+        n_evaluations: target evaluations used (a repeated point counted once).
         success: the optimiser's verdict.
     """
 
@@ -153,36 +320,60 @@ class BatFit:
     parameters: tuple[FreeParameter, ...]
     initial: tuple[float, ...]
     values: tuple[float, ...]
-    properties: MassProperties
+    achieved: tuple[float, ...]
     residuals: tuple[float, ...]
     n_evaluations: int
     success: bool
 
     @property
+    def least_squares(self) -> bool:
+        """Fewer parameters than targets: the fit minimises the misfits, it cannot zero them."""
+        return len(self.parameters) < len(self.residuals)
+
+    @property
+    def at_bound(self) -> tuple[FreeParameter, ...]:
+        """The parameters a bound stopped."""
+        return tuple(p for p, v in zip(self.parameters, self.values, strict=True)
+                     if _at_bound(v, PARAMETER_KINDS[p.kind]))  # fmt: skip
+
+    @property
     def matched(self) -> bool:
-        """Every target met to a relative 1e-6 (False when a bound stops the fit short)."""
-        return self.success and max(abs(r) for r in self.residuals) < MATCH_TOLERANCE
+        """Converged with no parameter at a bound, and, unless a least-squares fit, every target
+        met to a relative 1e-6."""
+        if not self.success or self.at_bound:
+            return False
+        return self.least_squares or max(abs(r) for r in self.residuals) < MATCH_TOLERANCE
+
+
+def _at_bound(value: float, kind: ParameterKind) -> bool:
+    near = 1e-6 * max(abs(value), kind.typical)
+    return value <= kind.lower + near or value >= kind.upper - near
 
 
 def fit_bat(
     spec: BatSpec,
-    targets: MassTargets,
+    targets: FitTargets,
     parameters: tuple[FreeParameter, ...],
     *,
     circumferential: int = DEFAULT_CIRCUMFERENTIAL,
     axial_size: float = DEFAULT_AXIAL_SIZE,
 ) -> BatFit:
-    """Adjust ``parameters`` of ``spec`` so its mass properties match ``targets`` (least squares).
+    """Adjust ``parameters`` of ``spec`` so its ``targets`` match (least squares).
 
     Raises:
         SpecError: an unknown part or label, or a fit that leaves the bat invalid.
+        SimulationError: a target that cannot be evaluated (too few hoop modes).
     """
     from scipy.optimize import least_squares
 
+    mesh = MeshOptions(circumferential, axial_size)
+    kinds = [PARAMETER_KINDS[p.kind] for p in parameters]
     initial = np.array([p.value(spec) for p in parameters])
-    typical = np.array([PARAMETER_KINDS[p.kind][1] for p in parameters])
-    scale = np.maximum(initial, typical)
-    lower = np.array([PARAMETER_KINDS[p.kind][0] for p in parameters]) / scale
+    scale = np.maximum(np.abs(initial), [k.typical for k in kinds])
+    lower = np.array([k.lower for k in kinds]) / scale
+    upper = np.array([k.upper for k in kinds]) / scale
+    wanted = np.asarray(targets.wanted, dtype=float)
+    seen: dict[bytes, tuple[float, ...]] = {}
 
     def with_values(scaled: np.ndarray) -> BatSpec:
         fitted = spec
@@ -190,59 +381,52 @@ def fit_bat(
             fitted = p.apply(fitted, float(value))
         return fitted
 
-    def misfit(scaled: np.ndarray) -> np.ndarray:
-        props, _ = bat_mass_properties(with_values(scaled), circumferential=circumferential,
-                                       axial_size=axial_size, pivot=targets.pivot)  # fmt: skip
-        return targets.residuals(props)
+    def achieved(scaled: np.ndarray) -> tuple[float, ...]:
+        key = np.asarray(scaled, dtype=float).tobytes()
+        if key not in seen:
+            seen[key] = targets.achieved(with_values(scaled), mesh)
+        return seen[key]
 
-    start = np.maximum(initial / scale, lower)
-    result = least_squares(misfit, start, bounds=(lower, np.inf), x_scale=1.0, xtol=1e-12,
-                           ftol=1e-12, gtol=1e-12, diff_step=1e-7)  # fmt: skip
-    fitted = with_values(result.x)
-    props, _ = bat_mass_properties(fitted, circumferential=circumferential,
-                                   axial_size=axial_size, pivot=targets.pivot)  # fmt: skip
+    def misfit(scaled: np.ndarray) -> np.ndarray:
+        return np.asarray(achieved(scaled)) / wanted - 1.0
+
+    start = np.clip(initial / scale, lower, upper)
+    tol = targets.tolerance
+    result = least_squares(misfit, start, bounds=(lower, upper), x_scale=1.0, xtol=tol,
+                           ftol=tol, gtol=tol, diff_step=targets.diff_step)  # fmt: skip
+    values = result.x * scale
+    final = achieved(result.x)
     return BatFit(
-        spec=fitted, parameters=parameters, initial=tuple(initial.tolist()),
-        values=tuple((result.x * scale).tolist()), properties=props,
-        residuals=tuple(targets.residuals(props).tolist()), n_evaluations=int(result.nfev),
+        spec=with_values(result.x), parameters=parameters, initial=tuple(initial.tolist()),
+        values=tuple(values.tolist()), achieved=final,
+        residuals=tuple((np.asarray(final) / wanted - 1.0).tolist()), n_evaluations=len(seen),
         success=bool(result.success),
     )  # fmt: skip
 
 
-_OZ, _IN = 0.028349523125, 0.0254
-_DISPLAY_UNITS = {"lumped_mass": "oz", "thickness": "in"}
-
-
-def fit_summary(fit: BatFit, targets: MassTargets) -> dict[str, Any]:
-    """A JSON-able summary of a fit: parameters with units, properties against targets."""
+def fit_summary(fit: BatFit, targets: FitTargets) -> dict[str, Any]:
+    """A JSON-able summary of a fit: parameters with units, achieved values against targets."""
     from batball.units import format_quantity
 
-    props = fit.properties
-    achieved = (props.mass / _OZ, props.balance_point / _IN, props.moi_pivot / (_OZ * _IN**2))
-    wanted = (targets.weight / _OZ, targets.balance_point / _IN,
-              targets.moi_pivot / (_OZ * _IN**2))  # fmt: skip
-    keys = ("weight_oz", "balance_point_in", "moi_pivot_oz_in2")
+    def text(p: FreeParameter, value: float) -> str:
+        kind = PARAMETER_KINDS[p.kind]
+        return format_quantity(value, kind.unit, digits=6)
+
     return {
         "bat": fit.spec.name,
+        "fitted_to": targets.description,
         "success": fit.success,
         "n_evaluations": fit.n_evaluations,
         "parameters": {
-            str(p): {
-                "initial": format_quantity(v0, _DISPLAY_UNITS[p.kind], digits=6),
-                "fitted": format_quantity(v, _DISPLAY_UNITS[p.kind], digits=6),
-            }
+            str(p): {"initial": text(p, v0), "fitted": text(p, v)}
             for p, v0, v in zip(fit.parameters, fit.initial, fit.values, strict=True)
         },
-        "properties": dict(zip(keys, achieved, strict=True)),
-        "targets": dict(zip(keys, wanted, strict=True)),
-        "error_percent": {k: 100.0 * r for k, r in zip(keys, fit.residuals, strict=True)},
+        "properties": dict(zip(targets.names, fit.achieved, strict=True)),
+        "targets": dict(zip(targets.names, targets.wanted, strict=True)),
+        "error_percent": {k: 100.0 * r for k, r in zip(targets.names, fit.residuals, strict=True)},
+        "least_squares": fit.least_squares,
         "matched": fit.matched,
-        "at_lower_bound": [
-            str(p)
-            for p, v in zip(fit.parameters, fit.values, strict=True)
-            if v <= PARAMETER_KINDS[p.kind][0] * (1.0 + 1e-6) + 1e-12
-        ],
-        "moi_cm_oz_in2": props.moi_cm / (_OZ * _IN**2),
+        "at_bound": [str(p) for p in fit.at_bound],
     }
 
 
