@@ -257,6 +257,7 @@ def add_fit_bat_parser(sub: Any) -> None:
         help="target hoop frequencies, lowest first (seed Table 3: '1450 Hz' '1950 Hz')",
     )
     p.add_argument("--output", type=Path, help="write the fitted bat to this TOML file")
+    add_store_options(p)
     p.set_defaults(handler=run_fit_bat_command)
 
 
@@ -372,7 +373,7 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
         hoop = tuple(parse_quantity(text, "frequency", field="hoop") for text in args.hoop)
         if not all(f > 0 for f in hoop) or list(hoop) != sorted(set(hoop)):
             raise SpecError("hoop", " ".join(args.hoop), "positive frequencies, lowest first")
-        targets = HoopTargets(hoop_hz=hoop, runs_dir=args.runs_dir)
+        targets = HoopTargets(hoop_hz=hoop, runs_dir=args.runs_dir, reuse=not args.no_reuse)
     default_free = DEFAULT_FREE if args.to == "mass" else DEFAULT_HOOP_FREE
     free = tuple(FreeParameter.parse(text) for text in (args.free or default_free))
     fit = fit_bat(spec, targets, free, **options)

@@ -85,3 +85,10 @@ def test_fit_bat_out_of_reach_says_so_and_exits_1(capsys) -> None:
     code, out, _ = run_cli(["fit-bat", "--weight", "23 oz", *COARSE], capsys)
     assert code == 1
     assert "NOT met" in out and "lumped_mass:endcap" in out
+
+
+def test_fit_bat_hoop_targets_must_be_positive_and_ascending(capsys) -> None:
+    code, _, err = run_cli(["fit-bat", "--to", "hoop", "--hoop", "1950 Hz", "1450 Hz", *COARSE],
+                           capsys)  # fmt: skip
+    assert code == 2
+    assert "hoop" in err and "lowest first" in err

@@ -89,9 +89,10 @@ def test_part_restrictions_are_checked() -> None:
 
 def test_hoop_fit_recovers_the_braid_a_bat_was_built_with(tmp_path, monkeypatch) -> None:
     """Coarse bat (16 x 0.5 in, ~3.5 s per modal analysis): the hoop frequencies of a bat with a
-    40-deg barrel braid, fitted from 30 deg, give back 40 deg. Two targets, one parameter, and
-    the targets are reachable, so both residuals vanish to the eigensolver's accuracy. Run again
-    with the same store, the fit replays the stored evaluations: no modal analysis at all."""
+    40-deg barrel braid, fitted from 30 deg, give back 40 deg to 0.01 deg (the fit stops at
+    steps of 0.003 deg, HoopTargets) and both frequencies to 1e-4 (0.15 Hz; 0.01 deg moves them
+    by about 0.1 Hz). Run again with the same store, the fit replays the stored evaluations: no
+    modal analysis at all."""
     import batball.lab.modal as modal
 
     coarse = {"circumferential": 16, "axial_size": 0.5 * IN}
@@ -102,8 +103,8 @@ def test_hoop_fit_recovers_the_braid_a_bat_was_built_with(tmp_path, monkeypatch)
     start = load_bat_spec("default")
     fit = fit_bat(start, targets, (braid,), **coarse)
     assert fit.success and fit.least_squares and fit.matched
-    assert math.degrees(fit.values[0]) == pytest.approx(40.0, abs=1e-3)
-    assert max(abs(r) for r in fit.residuals) < 1e-6
+    assert math.degrees(fit.values[0]) == pytest.approx(40.0, abs=0.01)
+    assert max(abs(r) for r in fit.residuals) < 1e-4
 
     def no_modal_analysis(*args, **kwargs):
         raise AssertionError("a stored evaluation was recomputed")
