@@ -92,3 +92,31 @@ def test_fit_bat_hoop_targets_must_be_positive_and_ascending(capsys) -> None:
                            capsys)  # fmt: skip
     assert code == 2
     assert "hoop" in err and "lowest first" in err
+
+
+def test_fit_bat_to_hoop_recovers_a_braid_and_stores_its_evaluations(tmp_path: Path,
+                                                                     capsys) -> None:  # fmt: skip
+    """`--to hoop` end to end on a coarse bat (16 x 0.5 in, ~30 s): given the hoop frequencies of
+    a bat built with a 40-deg barrel braid, the default fit frees that braid, finds 40 deg (the
+    fit stops at 0.003-deg steps, so 0.01 deg), writes it to the output bat and keeps one stored
+    evaluation per modal analysis."""
+    import math
+
+    from batball.lab.fit_bat import DEFAULT_HOOP_FREE, FreeParameter, HoopTargets, MeshOptions
+
+    braid = FreeParameter.parse(DEFAULT_HOOP_FREE[0])
+    truth = braid.apply(load_bat_spec("default"), math.radians(40.0))
+    hoop = HoopTargets().achieved(truth, MeshOptions(16, 0.5 * 0.0254))
+    output = tmp_path / "fitted.toml"
+    args = ["fit-bat", "--to", "hoop", "--hoop", *(f"{f!r} Hz" for f in hoop), "--json",
+            "--output", str(output), "--runs-dir", str(tmp_path / "runs"),
+            "--circumferential", "16", "--axial-size", "0.5 in"]  # fmt: skip
+    code, out, _ = run_cli(args, capsys)
+    assert code == 0
+    summary = json.loads(out)
+    assert summary["matched"] is True and summary["least_squares"] is True
+    fitted = summary["parameters"][DEFAULT_HOOP_FREE[0]]["fitted"]
+    assert fitted.endswith(" deg") and float(fitted.split()[0]) == pytest.approx(40.0, abs=0.01)
+    assert math.degrees(braid.value(load_bat_spec(output))) == pytest.approx(40.0, abs=0.01)
+    stored = list((tmp_path / "runs").glob("fit-hoop-*/summary.json"))
+    assert len(stored) == summary["n_evaluations"]
