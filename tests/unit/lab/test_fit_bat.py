@@ -112,3 +112,16 @@ def test_hoop_fit_recovers_the_braid_a_bat_was_built_with(tmp_path, monkeypatch)
     monkeypatch.setattr(modal, "bat_modes", no_modal_analysis)
     again = fit_bat(start, targets, (braid,), **coarse)
     assert again.values == fit.values
+
+
+def test_the_shipped_hoop_fitted_bat_is_the_default_with_a_wider_barrel_braid() -> None:
+    """docs/bat-hoop-fit.toml (the output of `batball fit-bat --to hoop`) differs from the
+    embedded default only in the freed parameter, so its mass properties are the default's."""
+    from pathlib import Path
+
+    path = Path(__file__).parents[3] / "docs" / "bat-hoop-fit.toml"
+    fitted, default = load_bat_spec(path), load_bat_spec("default")
+    braid = FreeParameter.parse(BARREL_BRAID)
+    assert math.degrees(braid.value(fitted)) == pytest.approx(39.4843, abs=1e-4)
+    restored = braid.apply(fitted, braid.value(default))
+    assert dataclasses.replace(restored, name="default") == default
