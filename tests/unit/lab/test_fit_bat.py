@@ -8,7 +8,15 @@ import math
 import pytest
 
 from batball.errors import SpecError
-from batball.lab.fit_bat import FreeParameter, HoopTargets, MassTargets, MeshOptions, fit_bat
+from batball.lab.fit_bat import (
+    MATCH_TOLERANCE,
+    BatFit,
+    FreeParameter,
+    HoopTargets,
+    MassTargets,
+    MeshOptions,
+    fit_bat,
+)
 from batball.lab.props import bat_mass_properties
 from batball.specs import load_bat_spec
 
@@ -125,3 +133,22 @@ def test_the_shipped_hoop_fitted_bat_is_the_default_with_a_wider_barrel_braid() 
     assert math.degrees(braid.value(fitted)) == pytest.approx(39.4843, abs=1e-4)
     restored = braid.apply(fitted, braid.value(default))
     assert dataclasses.replace(restored, name="default") == default
+
+
+def test_an_exact_fit_is_met_within_its_targets_match_tolerance() -> None:
+    """One hoop frequency, one braid: met when within HoopTargets.match (1e-4, 0.15 Hz), which
+    a mass-property fit's 1e-6 would refuse; a least-squares fit is met unless a bound stops it."""
+    spec = load_bat_spec("default")
+    braid = FreeParameter.parse(BARREL_BRAID)
+
+    def outcome(residuals: tuple[float, ...], match: float, value: float = 0.6) -> BatFit:
+        return BatFit(spec=spec, parameters=(braid,), initial=(0.5,), values=(value,),
+                      achieved=residuals, residuals=residuals, n_evaluations=3, success=True,
+                      match=match)  # fmt: skip
+
+    assert HoopTargets().match == 1e-4 and MassTargets(1.0, 1.0, 1.0).match == 1e-6
+    assert outcome((5e-5,), HoopTargets().match).matched
+    assert not outcome((5e-5,), MATCH_TOLERANCE).matched
+    assert outcome((5e-3, -4e-3), HoopTargets().match).matched  # least squares
+    at_90 = outcome((5e-3, -4e-3), HoopTargets().match, value=0.5 * math.pi)
+    assert at_90.at_bound == (braid,) and not at_90.matched
