@@ -32,6 +32,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from batball.errors import SimulationError, SpecError
+from batball.lab.modal_run import SEED_TABLE3
 from batball.lab.props import DEFAULT_PIVOT, bat_mass_properties
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.specs.bat import BatSpec, PartSpec, PlySpec
@@ -246,7 +247,7 @@ class MassTargets:
 
 
 #: Seed Table 3's measured hoop frequencies, Hz.
-SEED_HOOP_HZ = (1450.0, 1950.0)
+SEED_HOOP_HZ = tuple(SEED_TABLE3["hoop_hz"]["experiment"])
 
 
 @dataclass(frozen=True)
