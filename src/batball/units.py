@@ -20,6 +20,15 @@ from typing import Any
 
 from batball.errors import SpecError
 
+#: Exact conversion factors to SI for the few units that code writes out by hand (a person's
+#: report, a message, a plot axis). Definitions: NIST SP 811 (the international inch, foot and
+#: avoirdupois pound; standard gravity 9.80665 m/s^2), the same numbers pint uses.
+IN = 0.0254  # m
+MPH = 0.44704  # m/s (5280 * 12 in per 3600 s)
+OZ = 0.028349523125  # kg (avoirdupois ounce, 0.45359237 kg / 16)
+LBF = 4.4482216152605  # N (0.45359237 kg * 9.80665 m/s^2)
+PSI = 6894.757293168361  # Pa (LBF / IN**2, rounded to the nearest double)
+
 #: Dimension names accepted by :func:`parse_quantity`: pint dimensionality and an example input.
 DIMENSIONS: dict[str, tuple[str, str]] = {
     "length": ("[length]", "12 in"),

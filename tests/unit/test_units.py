@@ -49,6 +49,18 @@ def test_unit_definitions_match_exact_values() -> None:
     assert from_unit(1.0, "lbf") == pytest.approx(4.4482216152605, rel=1e-13)
 
 
+def test_module_constants_are_the_exact_definitions_and_pints() -> None:
+    """The constants the code writes reports with (one home: batball.units) are NIST SP 811's
+    exact values, and the same as pint's conversions that the input side uses."""
+    from batball import units
+
+    for name, exact, unit in (("IN", INCH, "in"), ("MPH", MPH, "mph"), ("OZ", OUNCE, "oz"),
+                              ("LBF", LBF, "lbf"), ("PSI", PSI, "psi")):  # fmt: skip
+        value = getattr(units, name)
+        assert value == pytest.approx(exact, rel=1e-15), name
+        assert value == pytest.approx(from_unit(1.0, unit), rel=1e-15), name
+
+
 def test_bare_number_is_accepted_only_when_dimensionless() -> None:
     assert parse_quantity(0.45, "dimensionless", field="x") == 0.45
     assert parse_quantity(2, "dimensionless", field="x") == 2.0

@@ -14,9 +14,10 @@ from __future__ import annotations
 import pytest
 
 from batball.errors import SpecError
-from batball.lab.impact import MPH, ImpactSetup, run_impact
+from batball.lab.impact import ImpactSetup, run_impact
 from batball.solvers.explicit import ExplicitControls
 from batball.specs import load_ball_spec
+from batball.units import MPH
 
 
 @pytest.mark.parametrize("ball", ["type1", "type2"])

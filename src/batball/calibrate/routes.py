@@ -29,9 +29,7 @@ from batball.calibrate.dma import DmaData, dma_ball, prony_moduli, write_dma_csv
 from batball.calibrate.targets import Target, targets_toml
 from batball.errors import SpecError
 from batball.specs import BallSpec, MaterialSpec
-
-MPH = 0.44704  # m/s
-PSI = 6894.757293168361  # Pa
+from batball.units import MPH, PSI
 
 ROUTES = ("cor", "ccor", "dma")
 #: The synthetic data set's speeds: flat wall at the ASTM F1887 60 mph and at 95 mph, the

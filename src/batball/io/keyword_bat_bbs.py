@@ -58,8 +58,8 @@ from batball.mesh import Mesh, hex_volumes
 from batball.specs import BallSpec
 from batball.specs.ball import MaterialSpec
 from batball.specs.bat import BatSpec
+from batball.units import IN
 
-IN = 0.0254  # m
 #: batball's dynamic relaxation factor (LS-DYNA DRFCTR's default), the only one it runs.
 DRFCTR = 0.995
 #: How far a rebuilt node may lie from the deck's, over the bat's length (as the bat reader).

@@ -34,8 +34,8 @@ from batball.io.keyword_cards import (
 from batball.lab.compression import TRAVEL_MARGIN, CompressionSetup, build_compression_model
 from batball.lab.impact import ImpactSetup, ball_body, make_target
 from batball.specs import BallSpec
+from batball.units import IN
 
-IN = 0.0254  # m
 #: Shell thickness of the rigid target [m]; only its contact offset matters (it is rigid).
 TARGET_THICKNESS = 0.05 * IN
 #: Steel for the rigid part's contact stiffness (E, nu, density; SI). LS-DYNA uses the rigid

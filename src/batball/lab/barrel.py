@@ -67,8 +67,7 @@ from batball.solvers.static_contact import (
     solve_static_contact,
 )
 from batball.specs.bat import BatSpec
-
-IN = 0.0254  # m
+from batball.units import IN
 
 
 @dataclass(frozen=True)

@@ -94,8 +94,7 @@ from batball.lab.props import bat_laminates
 from batball.mesh.bat import outer_rings
 from batball.solvers.ball_bat import RELAX_FACTOR, BatPart, ShellForces, relax_fit
 from batball.specs.bat import BatSpec
-
-IN = 0.0254  # m
+from batball.units import IN
 
 
 @dataclass(frozen=True)

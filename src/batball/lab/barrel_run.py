@@ -33,7 +33,6 @@ from batball.io.store import (
     write_summary,
 )
 from batball.lab.barrel import (
-    IN,
     BarrelModel,
     BarrelResult,
     BarrelTestOptions,
@@ -58,9 +57,8 @@ from batball.lab.barrel_explicit import (
 )
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
+from batball.units import IN, LBF, PSI
 
-LBF = 4.4482216152605  # N
-PSI = 6894.757293168  # Pa
 #: Seed Table 2 (lbf): preload (first 0.02 in) and final load (the further 0.05 in).
 SEED_TABLE2 = {
     "experiment": {"preload_lbf": 186.0, "final_load_lbf": 368.0},

@@ -63,9 +63,7 @@ from batball.solvers.ball_bat import (
 )
 from batball.solvers.explicit import BulkViscosity, HourglassControl
 from batball.specs import BallSpec, BatSpec
-
-IN = 0.0254  # m
-MPH = 0.44704  # m/s
+from batball.units import IN, MPH
 
 
 @dataclass(frozen=True)

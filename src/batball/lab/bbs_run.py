@@ -26,11 +26,8 @@ from batball.io.store import (
 from batball.lab.bbs import BbsResult, BbsSetup, run_bbs
 from batball.report.plots import plot_force_time
 from batball.specs import BallSpec, BatSpec, ball_spec_to_toml_dict, bat_spec_to_toml_dict
+from batball.units import IN, LBF, MPH, PSI
 
-MPH = 0.44704  # m/s
-LBF = 4.4482216152605  # N
-IN = 0.0254  # m
-PSI = 6894.757293168361  # Pa
 OZ_IN2 = 0.028349523125 * IN**2  # kg m^2
 
 

@@ -54,8 +54,8 @@ from batball.solvers.explicit import (
     run_explicit,
 )
 from batball.specs import BallSpec
+from batball.units import IN
 
-IN = 0.0254  # m
 #: Plate travel allowed beyond the test displacement, for the penalty contact's penetration.
 TRAVEL_MARGIN = 1.1
 

@@ -28,9 +28,7 @@ from batball.mesh import mesh_quality
 from batball.report.plots import plot_lines
 from batball.solvers.explicit import ENERGY_COLUMNS
 from batball.specs import BallSpec, ball_spec_to_toml_dict
-
-LBF = 4.4482216152605  # N
-IN = 0.0254  # m
+from batball.units import IN, LBF
 
 
 def summarise_compression(result: CompressionResult, wall_seconds: float) -> dict[str, Any]:

@@ -34,9 +34,7 @@ from batball.solvers.explicit import (
     run_explicit,
 )
 from batball.specs import BallSpec
-
-IN = 0.0254  # m
-MPH = 0.44704  # m/s
+from batball.units import IN, MPH
 
 #: The ball tests, keyed by the names users type.
 IMPACT_TARGETS = {"ccor": "cylinder", "cor": "wall"}

@@ -28,12 +28,9 @@ from batball.mesh import mesh_quality
 from batball.report.plots import plot_force_time
 from batball.solvers.explicit import BALANCE, ENERGY_COLUMNS
 from batball.specs import BallSpec, ball_spec_to_toml_dict
+from batball.units import IN, LBF, MPH, OZ
 
-MPH = 0.44704  # m/s
-LBF = 4.4482216152605  # N
 LBF_PER_IN = LBF / 0.0254  # N/m
-OZ = 0.028349523125  # kg
-IN = 0.0254  # m
 
 
 def ball_test_inputs(ball: BallSpec, setup: Any) -> dict[str, Any]:

@@ -15,9 +15,8 @@ from batball.lab.props import DEFAULT_PIVOT, MassProperties, bat_mass_properties
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.mesh.shell import ShellMesh, shell_quality
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
+from batball.units import IN, OZ
 
-OZ = 0.028349523125  # kg
-IN = 0.0254  # m
 OZ_IN2 = OZ * IN * IN  # kg m^2
 
 

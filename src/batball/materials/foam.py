@@ -49,8 +49,7 @@ import numpy as np
 from batball.errors import SpecError
 from batball.materials.base import MaterialLaw
 from batball.materials.parameters import Parameter
-
-PSI = 6894.757293168361
+from batball.units import PSI
 
 #: Kinds of foam law, as the kernel sees them (params[P_KIND]).
 KIND_MAT057, KIND_MAT083 = 57.0, 83.0

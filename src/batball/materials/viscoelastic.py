@@ -18,8 +18,6 @@ from batball.errors import SpecError
 from batball.materials.base import MaterialLaw
 from batball.materials.parameters import Parameter
 
-PSI = 6894.757293168361
-
 MAT006_PARAMETERS = (
     Parameter(
         "bulk_modulus",

@@ -7,8 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from batball.io.store import atomic_path
-
-LBF = 4.4482216152605  # N
+from batball.units import LBF
 
 
 def plot_force_time(

@@ -31,10 +31,7 @@ from batball.report.seed_comparison import (
     comparison_tables,
 )
 from batball.specs import BallSpec, BatSpec, load_ball_spec, load_bat_spec, load_seed_tables
-
-MPH = 0.44704  # m/s
-IN = 0.0254  # m
-PSI = 6894.757293168361  # Pa
+from batball.units import IN, MPH, PSI
 
 
 @dataclass(frozen=True)

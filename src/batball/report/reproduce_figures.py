@@ -15,11 +15,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from batball.io.store import atomic_path
+from batball.units import LBF
 
 if TYPE_CHECKING:
     from batball.report.reproduce import ReportFigure, TestRun
 
-LBF = 4.4482216152605  # N
 ENERGIES = ("kinetic", "internal", "hourglass", "contact", "balance_error")
 SPEED_COLOURS = {95: "tab:blue", 110: "tab:red"}
 

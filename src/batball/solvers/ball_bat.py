@@ -57,7 +57,6 @@ from batball.errors import SimulationError
 from batball.materials.foam import FoamTable
 from batball.numerics import FASTMATH
 
-IN = 0.0254  # m, for messages
 #: The fit's dynamic relaxation scales velocities by this each cycle (LS-DYNA's DRFCTR default).
 RELAX_FACTOR = 0.995
 

@@ -29,8 +29,7 @@ from batball.materials.foam import FoamTable
 from batball.mesh import Mesh
 from batball.solvers import explicit_kernels as kern
 from batball.solvers.explicit_kernels import lumped_masses, slot_node_ranges
-
-IN = 0.0254  # m, for messages a person reads
+from batball.units import IN
 
 
 @dataclass(frozen=True)
