@@ -59,12 +59,22 @@ from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
 from batball.units import IN, LBF, PSI
 
-#: Seed Table 2 (lbf): preload (first 0.02 in) and final load (the further 0.05 in).
-SEED_TABLE2 = {
-    "experiment": {"preload_lbf": 186.0, "final_load_lbf": 368.0},
-    "seed_lsdyna": {"preload_lbf": 155.0, "final_load_lbf": 386.0},
-}
 PRESTRESS_FILE = "prestress.npz"
+
+
+def seed_table2() -> dict[str, dict[str, float]]:
+    """Seed Table 2 (lbf), from ``specs/seed.py``: preload (the first 0.02 in) and final load
+    (the further 0.05 in), experiment and the seed's LS-DYNA model. The table gives whole
+    pounds; the rounding to 1e-6 lbf only removes the N -> lbf round trip's last bits."""
+    from batball.specs.seed import load_seed_tables
+
+    b = load_seed_tables().barrel
+    return {
+        "experiment": {"preload_lbf": round(b.preload_exp / LBF, 6),
+                       "final_load_lbf": round(b.final_load_exp / LBF, 6)},
+        "seed_lsdyna": {"preload_lbf": round(b.preload_fe / LBF, 6),
+                        "final_load_lbf": round(b.final_load_fe / LBF, 6)},
+    }  # fmt: skip
 
 
 def prestress_inputs(spec: BatSpec, circumferential: int, axial_size: float,
@@ -134,7 +144,7 @@ def table2_summary(spec: BatSpec, curves: list[CompressionCurve],
         "orientations_deg": list(options.orientations_deg),
         "preload_by_orientation_lbf": preloads.tolist(),
         "final_load_by_orientation_lbf": finals.tolist(),
-        "seed_table2": SEED_TABLE2,
+        "seed_table2": seed_table2(),
         "interference_in": spec.insert.interference / IN if spec.insert else 0.0,
         "interference_pressure_thin_ring_psi": thin_ring_interference_pressure(spec) / PSI,
         "insert_contact_lbf": {
@@ -215,9 +225,10 @@ def plot_curve(path: Path, columns: dict[str, np.ndarray], options: BarrelTestOp
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot(columns["travel_in"], columns["force_lbf"], "o-", label="batball")
     travels = [options.preload_travel / IN, (options.preload_travel + options.final_travel) / IN]
+    table2 = seed_table2()
     for key, marker, label in (("experiment", "s", "experiment (seed Table 2)"),
                                ("seed_lsdyna", "^", "seed LS-DYNA")):  # fmt: skip
-        row = SEED_TABLE2[key]
+        row = table2[key]
         forces = [row["preload_lbf"], row["preload_lbf"] + row["final_load_lbf"]]
         ax.plot(travels, forces, marker, label=label)
     ax.set_xlabel("platen travel (in)")

@@ -251,3 +251,14 @@ def test_an_interrupted_explicit_run_resumes_after_the_last_orientation_done(
     assert resumed["interference_pressure_psi"] == pytest.approx(
         first["interference_pressure_psi"], rel=1e-12)
     assert resumed["preload_lbf"] == pytest.approx(first["preload_lbf"], rel=1e-12)
+
+
+def test_summary_seed_table2_is_the_papers_table_in_whole_pounds() -> None:
+    """Seed Table 2 as printed (lbf): experiment 186 / 368, LS-DYNA 155 / 386. The summary reads
+    it from specs/seed.py in newtons and must give the printed pounds back."""
+    from batball.lab.barrel_run import seed_table2
+
+    assert seed_table2() == {
+        "experiment": {"preload_lbf": 186.0, "final_load_lbf": 368.0},
+        "seed_lsdyna": {"preload_lbf": 155.0, "final_load_lbf": 386.0},
+    }
