@@ -3,7 +3,10 @@
 
 Issue 4: every cell at least as close to the experiment as the seed's LS-DYNA column, except the
 ones docs/calibration.md lists as not reached (type 1's CCOR at 95 mph with MAT_006: the one-term
-model cannot follow CCOR's fall with speed; see the trade-off there).
+model cannot follow CCOR's fall with speed; see the trade-off there). The same for the MAT_057
+foam balls fitted on this mesh (``<ball>-mat057-12div``, docs/foams.md "The fine stage for
+MAT_057"): type 1's CCOR at 95 mph for the same reason, and type 2's CCORs, which the seed's
+LS-DYNA had within 0.9 % and the foam within 1.1 %.
 """
 
 from __future__ import annotations
@@ -25,7 +28,12 @@ QUANTITIES = {
     "contact_time": ("contact_time", "contact"),
 }
 #: (fit, ball, speed, quantity) cells the fit does not bring closer than the seed's LS-DYNA.
-NOT_REACHED = {("type1-mat006", 95, "ccor")}
+NOT_REACHED = {
+    ("type1-mat006", 95, "ccor"),
+    ("type1-mat057-12div", 95, "ccor"),
+    ("type2-mat057-12div", 95, "ccor"),
+    ("type2-mat057-12div", 110, "ccor"),
+}
 _RUNS: dict[tuple[str, int], object] = {}
 
 
@@ -39,7 +47,9 @@ def measures(fit: str, mph: int):
 @pytest.mark.slow
 @pytest.mark.parametrize("quantity", list(QUANTITIES))
 @pytest.mark.parametrize("mph", [95, 110])
-@pytest.mark.parametrize("fit", ["type1-mat006", "type2-mat006"])
+@pytest.mark.parametrize(
+    "fit", ["type1-mat006", "type2-mat006", "type1-mat057-12div", "type2-mat057-12div"]
+)
 def test_calibrated_ball_is_as_close_to_the_experiment_as_the_seed(fit, mph, quantity) -> None:
     attribute, column = QUANTITIES[quantity]
     row = load_seed_tables().ball_impact(fit.split("-")[0], mph)
