@@ -28,6 +28,7 @@ MPH = 0.44704  # m/s (5280 * 12 in per 3600 s)
 OZ = 0.028349523125  # kg (avoirdupois ounce, 0.45359237 kg / 16)
 LBF = 4.4482216152605  # N (0.45359237 kg * 9.80665 m/s^2)
 PSI = 6894.757293168361  # Pa (LBF / IN**2, rounded to the nearest double)
+OZ_IN2 = OZ * IN * IN  # kg m^2 (moment of inertia, seed Table 1's unit)
 
 #: Dimension names accepted by :func:`parse_quantity`: pint dimensionality and an example input.
 DIMENSIONS: dict[str, tuple[str, str]] = {

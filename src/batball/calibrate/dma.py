@@ -41,6 +41,7 @@ import numpy as np
 
 from batball.errors import SpecError
 from batball.specs import BallSpec, MaterialSpec
+from batball.units import PSI
 
 #: Unit suffixes of the CSV columns (lower case) and their SI factors.
 PRESSURE_UNITS: dict[str, float] = {
@@ -48,7 +49,7 @@ PRESSURE_UNITS: dict[str, float] = {
     "kpa": 1e3,
     "mpa": 1e6,
     "gpa": 1e9,
-    "psi": 6894.757293168361,
+    "psi": PSI,
     "ksi": 6894757.293168361,
 }
 #: Frequency suffixes -> factor to angular frequency [rad/s].

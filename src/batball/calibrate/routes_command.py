@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from batball.errors import SpecError
+from batball.units import MPH
 
 #: Defaults of the comparison's meshes: the coarse ball and bat the synthetic data set uses.
 DEFAULT_DIVISIONS = 8
@@ -146,7 +147,7 @@ def _speeds_mph(args: argparse.Namespace) -> list[float]:
     from batball.units import parse_quantity
 
     texts = args.speeds or ["95 mph", "110 mph"]
-    return [round(parse_quantity(t, "velocity", field="speeds") / 0.44704, 3) for t in texts]
+    return [round(parse_quantity(t, "velocity", field="speeds") / MPH, 3) for t in texts]
 
 
 def _bbs_setup(args: argparse.Namespace) -> Any:
@@ -231,7 +232,7 @@ def measured_bbs(args: argparse.Namespace, ball_name: str, speeds: list[float]) 
         return {}
     tables = load_seed_tables()
     return {
-        mph: tables.batted_ball_speed(ball_name, mph).bbs_exp / 0.44704
+        mph: tables.batted_ball_speed(ball_name, mph).bbs_exp / MPH
         for mph in speeds
         if mph in (95.0, 110.0)
     }
@@ -314,7 +315,7 @@ def run_synthetic_command(args: argparse.Namespace) -> int:
     bbs = {}
     for mph in [] if args.no_bbs else _speeds_mph(args):
         summary, _ = run_bbs_test(
-            bat, truth, dataclasses.replace(setup, speed=mph * 0.44704), runs_dir=args.runs_dir
+            bat, truth, dataclasses.replace(setup, speed=mph * MPH), runs_dir=args.runs_dir
         )
         bbs[mph] = float(summary["bbs_mph"])
     mesh = f"{bat.name}, {args.circumferential} shells round, axial size {args.axial_size}"

@@ -54,6 +54,7 @@ from batball.mesh.bat import make_bat_mesh
 from batball.mesh.shell import ShellMesh, quad_areas
 from batball.specs import BallSpec
 from batball.specs.bat import BatSpec, PlySpec
+from batball.units import IN, MPH
 
 BAT_NODE_START = 200_001
 BAT_ELEMENT_START = 200_001
@@ -339,9 +340,9 @@ def barrel_deck(
         free = {2: 6.0, 3: 4.0}[load_dof]  # CON1: x and the other lateral axis held
         lines = bat_header(spec, f"barrel compression at {orientation_deg:g} deg", u, mesh, long)
         lines += [
-            f"$ platens {options.platen_diameter / 0.0254:.6g} in, centre "
-            f"{options.distance_from_cap / 0.0254:.6g} in from the cap; preload = F at "
-            f"{options.preload_travel / 0.0254:.6g} in, final = F(total) - preload "
+            f"$ platens {options.platen_diameter / IN:.6g} in, centre "
+            f"{options.distance_from_cap / IN:.6g} in from the cap; preload = F at "
+            f"{options.preload_travel / IN:.6g} in, final = F(total) - preload "
             "(RCFORC of part 2); batball zeroes the travel at first touch after the fit"
         ]
         lines += keyword("TITLE", {"title": f"batball barrel bat {spec.name} ({u.name})"})
@@ -437,11 +438,11 @@ def _bbs_lines(spec: BatSpec, ball: BallSpec, setup: BbsSetup, u: UnitSystem) ->
     band_mass = coupled.bat.mass[band, 0]  # translational lumped mass
     offset = float(band_mass @ mesh.points[band, 0] / band_mass.sum()) - setup.pivot_from_knob
     lines = bat_header(spec, f"batted-ball speed with ball '{ball.name}' at "
-                       f"{setup.speed / 0.44704:.6g} mph", u, mesh, _LONG.get())  # fmt: skip
+                       f"{setup.speed / MPH:.6g} mph", u, mesh, _LONG.get())  # fmt: skip
     lines += [
         f"$ part 1 = ball (moving along -y); BBS from MATSUM part 1 y-velocity; pivot band "
         f"= node set {PIVOT_NODE_SET}; its centre of mass (LS-DYNA's rotation centre) is "
-        f"{offset / 0.0254:.4g} in from batball's pivot axis"
+        f"{offset / IN:.4g} in from batball's pivot axis"
     ]
     lines += keyword("TITLE", {"title": f"batball bbs bat {spec.name} ball {ball.name} ({u.name})"})
     lines += control_cards(setup, setup.end_time, u) + database_cards(u, 1e-6, 1e-5, 1e-4)

@@ -27,8 +27,7 @@ from batball.lab.barrel import BarrelTestOptions, build_barrel_model, compressio
 from batball.mesh.bat import make_bat_mesh
 from batball.mesh.shell import quad_areas
 from batball.specs.bat import BatSpec, InsertSpec, PartSpec, PlySpec
-
-IN, LBF = 0.0254, 4.4482216152605
+from batball.units import LBF
 
 
 def plies_of(bat: BatDeck, name: str) -> tuple[PlySpec, ...]:

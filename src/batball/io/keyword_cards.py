@@ -18,6 +18,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from batball.errors import SpecError
+from batball.units import IN, LBF
 
 #: One field: name, width in standard format, kind ("i" integer, "f" real, "s" text).
 Field = tuple[str, int, str]
@@ -234,7 +235,7 @@ class UnitSystem:
 #: The unit systems a deck may be written or read in (in-lbf-s is the seed's Table 4 system).
 UNIT_SYSTEMS = {
     "in-lbf-s": UnitSystem(
-        "in-lbf-s", 0.0254, 4.4482216152605, 1.0,
+        "in-lbf-s", IN, LBF, 1.0,
         "length in, force lbf, time s, mass lbf*s^2/in, density lbf*s^2/in^4, stress psi",
     ),
     "m-N-s": UnitSystem("m-N-s", 1.0, 1.0, 1.0, "SI: length m, force N, time s, mass kg, Pa"),

@@ -34,7 +34,7 @@ from batball.io.keyword_cards import (
 from batball.lab.compression import TRAVEL_MARGIN, CompressionSetup, build_compression_model
 from batball.lab.impact import ImpactSetup, ball_body, make_target
 from batball.specs import BallSpec
-from batball.units import IN
+from batball.units import IN, MPH
 
 #: Shell thickness of the rigid target [m]; only its contact offset matters (it is rigid).
 TARGET_THICKNESS = 0.05 * IN
@@ -292,7 +292,7 @@ def header_lines(ball: BallSpec, setup: ImpactSetup, u: UnitSystem) -> list[str]
     """Comment lines saying what the deck is, its units and where each measurement is read."""
     return [
         f"$ batball {__version__}: {setup.test} test of ball '{ball.name}' at "
-        f"{setup.speed / 0.44704:.6g} mph, {setup.divisions} divisions",
+        f"{setup.speed / MPH:.6g} mph, {setup.divisions} divisions",
         f"$ units {u.name}: {u.description}",
         "$ part 1 = ball (moving along -z), part 2 = rigid target (fixed)",
         "$ CCOR/COR = part 1 z-velocity after separation (MATSUM) / inbound speed;",

@@ -40,6 +40,7 @@ from batball.solvers.explicit import (
     Model,
     RigidContact,
 )
+from batball.units import IN, LBF, MPH, OZ
 
 #: Keywords with a fixed number of cards: (least, most).
 CARD_COUNTS = {
@@ -341,7 +342,7 @@ def read_deck(
     *,
     units: str = "in-lbf-s",
     separation_time: float | None = 0.1e-3,
-    displacement: float = 0.25 * 0.0254,
+    displacement: float = 0.25 * IN,
     precision: str = "single",
 ) -> DeckModel:
     """Read the deck at ``path`` (numbers in ``units``) into a :class:`DeckModel`.
@@ -721,17 +722,16 @@ def run_deck(
         return run_compression_deck(deck, progress=progress)
     run, _, m = run_impact_model(deck.model, deck.controls, threshold, progress=progress)
     kinetic0 = 0.5 * run.mass * deck.speed**2
-    lbf, mph = 4.4482216152605, 0.44704
     return {
         "test": deck.test,
         "title": deck.title,
         deck.test: m.restitution,
-        "inbound_mph": m.inbound_speed / mph,
-        "rebound_mph": m.rebound_speed / mph,
-        "ds_lbf_per_in": m.dynamic_stiffness / (lbf / 0.0254),
-        "peak_force_lbf": m.peak_force / lbf,
+        "inbound_mph": m.inbound_speed / MPH,
+        "rebound_mph": m.rebound_speed / MPH,
+        "ds_lbf_per_in": m.dynamic_stiffness / (LBF / IN),
+        "peak_force_lbf": m.peak_force / LBF,
         "contact_time_ms": m.contact_time * 1e3,
-        "ball_mass_oz": run.mass / 0.028349523125,
+        "ball_mass_oz": run.mass / OZ,
         "n_cells": deck.model.mesh.n_cells,
         "n_steps": len(run.time),
         "energy_balance_error": float(np.abs(run.energies[:, BALANCE]).max() / kinetic0),
@@ -748,14 +748,13 @@ def run_compression_deck(
     run, grid, force, difference, _, ratio, error = run_compression_model(
         deck.model, deck.controls, deck.speed, deck.displacement, samples, progress=progress
     )
-    lbf = 4.4482216152605
     return {
         "test": "compression",
         "title": deck.title,
-        "compression_lbf": float(force[-1]) / lbf,
-        "compression_fit_lbf": power_law_reading(grid, force, deck.displacement) / lbf,
-        "displacement_in": deck.displacement / 0.0254,
-        "rate_in_per_min": deck.speed / 0.0254 * 60.0,
+        "compression_lbf": float(force[-1]) / LBF,
+        "compression_fit_lbf": power_law_reading(grid, force, deck.displacement) / LBF,
+        "displacement_in": deck.displacement / IN,
+        "rate_in_per_min": deck.speed / IN * 60.0,
         "plate_force_difference_fraction": float(abs(difference[-1]) / max(force[-1], 1e-300)),
         "kinetic_to_internal_energy": ratio,
         "energy_balance_error": error,

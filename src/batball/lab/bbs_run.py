@@ -26,9 +26,7 @@ from batball.io.store import (
 from batball.lab.bbs import BbsResult, BbsSetup, run_bbs
 from batball.report.plots import plot_force_time
 from batball.specs import BallSpec, BatSpec, ball_spec_to_toml_dict, bat_spec_to_toml_dict
-from batball.units import IN, LBF, MPH, PSI
-
-OZ_IN2 = 0.028349523125 * IN**2  # kg m^2
+from batball.units import IN, LBF, MPH, OZ_IN2, PSI
 
 
 def bbs_inputs(bat: BatSpec, ball: BallSpec, setup: BbsSetup) -> dict[str, Any]:

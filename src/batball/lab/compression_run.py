@@ -28,7 +28,7 @@ from batball.mesh import mesh_quality
 from batball.report.plots import plot_lines
 from batball.solvers.explicit import ENERGY_COLUMNS
 from batball.specs import BallSpec, ball_spec_to_toml_dict
-from batball.units import IN, LBF
+from batball.units import IN, LBF, OZ
 
 
 def summarise_compression(result: CompressionResult, wall_seconds: float) -> dict[str, Any]:
@@ -45,7 +45,7 @@ def summarise_compression(result: CompressionResult, wall_seconds: float) -> dic
         "rate_in_per_min": setup.rate / IN * 60.0,
         "loading_time_s": setup.displacement / setup.rate,
         "ball": result.ball.name,
-        "ball_mass_oz": result.ball.mass / 0.028349523125,
+        "ball_mass_oz": result.ball.mass / OZ,
         "plate_force_difference_fraction": float(
             abs(result.force_difference[-1]) / max(result.compression, 1e-300)
         ),

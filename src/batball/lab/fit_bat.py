@@ -35,8 +35,7 @@ from batball.errors import SimulationError, SpecError
 from batball.lab.props import DEFAULT_PIVOT, bat_mass_properties
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.specs.bat import BatSpec, PartSpec, PlySpec
-
-_OZ, _IN = 0.028349523125, 0.0254
+from batball.units import IN, OZ, OZ_IN2
 
 
 @dataclass(frozen=True)
@@ -51,8 +50,8 @@ class ParameterKind:
 
 #: The kinds of free parameter.
 PARAMETER_KINDS: dict[str, ParameterKind] = {
-    "lumped_mass": ParameterKind(0.0, math.inf, _OZ, "oz"),
-    "thickness": ParameterKind(0.001 * _IN, math.inf, 0.01 * _IN, "in"),
+    "lumped_mass": ParameterKind(0.0, math.inf, OZ, "oz"),
+    "thickness": ParameterKind(0.001 * IN, math.inf, 0.01 * IN, "in"),
     "angle": ParameterKind(0.0, 0.5 * math.pi, math.radians(10.0), "deg"),
 }
 
@@ -237,12 +236,12 @@ class MassTargets:
 
     @property
     def wanted(self) -> tuple[float, ...]:
-        return (self.weight / _OZ, self.balance_point / _IN, self.moi_pivot / (_OZ * _IN**2))
+        return (self.weight / OZ, self.balance_point / IN, self.moi_pivot / OZ_IN2)
 
     def achieved(self, spec: BatSpec, mesh: MeshOptions) -> tuple[float, ...]:
         props, _ = bat_mass_properties(spec, circumferential=mesh.circumferential,
                                        axial_size=mesh.axial_size, pivot=self.pivot)  # fmt: skip
-        return (props.mass / _OZ, props.balance_point / _IN, props.moi_pivot / (_OZ * _IN**2))
+        return (props.mass / OZ, props.balance_point / IN, props.moi_pivot / OZ_IN2)
 
 
 def seed_hoop_hz() -> tuple[float, ...]:

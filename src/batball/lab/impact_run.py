@@ -30,7 +30,7 @@ from batball.solvers.explicit import BALANCE, ENERGY_COLUMNS
 from batball.specs import BallSpec, ball_spec_to_toml_dict
 from batball.units import IN, LBF, MPH, OZ
 
-LBF_PER_IN = LBF / 0.0254  # N/m
+LBF_PER_IN = LBF / IN  # N/m
 
 
 def ball_test_inputs(ball: BallSpec, setup: Any) -> dict[str, Any]:

@@ -18,6 +18,7 @@ from batball.io.store import atomic_path, run_folder, run_or_reuse, write_summar
 from batball.lab.modal import BatModes, bat_modes
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
+from batball.units import IN
 
 
 def seed_table3() -> dict[str, dict[str, list[float]]]:
@@ -88,8 +89,8 @@ def plot_modes(path: Path, modes: BatModes) -> None:
     for ax, (label, index) in zip(axes[:, 0], picked, strict=True):
         u = modes.shapes[:n_outer, :3, index]
         deformed = points + 0.1 * u / np.abs(u).max()  # 0.1 m peak displacement
-        ax.scatter(deformed[:, 0] / 0.0254, deformed[:, 1] / 0.0254, s=0.2, c="tab:red")
-        ax.scatter(points[:, 0] / 0.0254, points[:, 1] / 0.0254, s=0.1, c="0.7")
+        ax.scatter(deformed[:, 0] / IN, deformed[:, 1] / IN, s=0.2, c="tab:red")
+        ax.scatter(points[:, 0] / IN, points[:, 1] / IN, s=0.1, c="0.7")
         ax.set_title(f"{label} {modes.frequencies[index]:.0f} Hz")
         ax.set_ylabel("y (in)")
     axes[-1, 0].set_xlabel("x from the knob end (in)")

@@ -25,10 +25,10 @@ from batball.materials.laminate import Laminate
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL, make_bat_mesh
 from batball.mesh.shell import ShellMesh, quad_areas
 from batball.specs.bat import BatSpec
+from batball.units import IN
 
-METRES_PER_INCH = 0.0254
 #: F2398 pivot: 6 in from the knob end.
-DEFAULT_PIVOT = 6.0 * METRES_PER_INCH
+DEFAULT_PIVOT = 6.0 * IN
 
 _GAUSS = 1.0 / np.sqrt(3.0)
 #: (xi, eta) of the 2 x 2 Gauss points, unit weights.

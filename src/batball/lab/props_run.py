@@ -15,9 +15,7 @@ from batball.lab.props import DEFAULT_PIVOT, MassProperties, bat_mass_properties
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.mesh.shell import ShellMesh, shell_quality
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
-from batball.units import IN, OZ
-
-OZ_IN2 = OZ * IN * IN  # kg m^2
+from batball.units import IN, OZ, OZ_IN2
 
 
 def props_inputs(

@@ -20,13 +20,12 @@ import numpy as np
 
 from batball.mesh.shell import ShellMesh
 from batball.specs.bat import BatSpec
-
-METRES_PER_INCH = 0.0254
+from batball.units import IN
 
 #: Quads around the circumference and axial element size that give about the seed's 20,494 shells
 #: on the default bat (48 x 0.1 in: 20,688 quads; barrel quads 0.147 x 0.1 in).
 DEFAULT_CIRCUMFERENTIAL = 48
-DEFAULT_AXIAL_SIZE = 0.1 * METRES_PER_INCH
+DEFAULT_AXIAL_SIZE = 0.1 * IN
 
 
 def make_bat_mesh(

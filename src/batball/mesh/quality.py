@@ -8,8 +8,7 @@ import numpy as np
 
 from batball.mesh.hexa import characteristic_lengths, hex_volumes, scaled_jacobians
 from batball.mesh.mesh import Mesh
-
-METRES_PER_INCH = 0.0254
+from batball.units import IN
 
 
 @dataclass(frozen=True)
@@ -34,7 +33,7 @@ class MeshQuality:
 
     def describe(self) -> str:
         """One human-readable line, lengths in inches."""
-        length_in = self.min_characteristic_length / METRES_PER_INCH
+        length_in = self.min_characteristic_length / IN
         return (
             f"{self.n_cells} hexes, {self.n_points} nodes, "
             f"min scaled Jacobian {self.min_scaled_jacobian:.2f}, "

@@ -16,8 +16,7 @@ import numpy as np
 from batball.io.store import atomic_path
 from batball.mesh.shell import ShellMesh, quad_normals
 from batball.specs.bat import BatSpec
-
-METRES_PER_INCH = 0.0254
+from batball.units import IN
 
 #: Colours by part-name prefix: handle blues, taper greens, barrel oranges, insert gold.
 PART_COLOURS: dict[str, tuple[str, ...]] = {
@@ -70,7 +69,7 @@ def shaded_faces(
     Returns:
         polygons (n_kept, 4, 2) in inches, colours (n_kept, 4) RGBA, order of drawing applied.
     """
-    view = mesh.points @ basis.T / METRES_PER_INCH  # (n_points, 3): right, up, depth
+    view = mesh.points @ basis.T / IN  # (n_points, 3): right, up, depth
     normals = quad_normals(mesh.points, mesh.cells) @ basis.T
     facing = normals[:, 2]
     light = np.array([-0.35, 0.55, 0.76])
@@ -129,7 +128,7 @@ def plot_bat_mesh(path: Path, spec: BatSpec, mesh: ShellMesh, *, title: str = ""
     top.set_title(title or f"{spec.name}: {mesh.n_cells:,} four-node shells, coloured by part")
     bottom.set_title("barrel, front half of the outer wall cut away over the insert (mesh edges)")
     _draw(bottom, mesh, colours, barrel_cutaway(spec, mesh), edges=True)
-    bottom.set_xlim(spec.length / METRES_PER_INCH - 15.0, spec.length / METRES_PER_INCH + 0.3)
+    bottom.set_xlim(spec.length / IN - 15.0, spec.length / IN + 0.3)
     for ax in (top, bottom):
         ax.set_xlabel("x from the knob end (in)")
         ax.set_ylabel("in")

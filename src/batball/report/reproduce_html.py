@@ -17,6 +17,7 @@ from batball.report.seed_comparison import (
     verdict,
 )
 from batball.specs import ball_spec_to_toml_dict, bat_spec_to_toml_dict
+from batball.units import IN
 
 if TYPE_CHECKING:
     from batball.report.reproduce import Reproduction, TestOutcome
@@ -300,7 +301,7 @@ def inputs_section(result: Reproduction) -> str:
         [
             ("ball divisions", f"{m.ball_divisions} (12 = the seed's 12,096 hexes)"),
             ("bat shells around", m.bat_circumferential),
-            ("bat shell length", f"{m.bat_axial_size / 0.0254:g} in"),
+            ("bat shell length", f"{m.bat_axial_size / IN:g} in"),
         ]
     )
     machine = definition_list(
