@@ -7,7 +7,8 @@ for several steps on a small, randomly perturbed, curved (tapered tube) mesh of 
 with different layer counts (so padding layers and blocks cut at laminate changes occur), with
 random velocities and rotation rates and a random initial stress state, and must agree to
 round-off in the nodal forces and in every state array. The kernel with the assembly fused in
-(``bt_nodal_force_kernel``) must give exactly the serial sum of the blocked kernel's cell forces.
+(``bt_nodal_force_kernel``) must give the serial sum of the blocked kernel's cell forces, to
+round-off as well.
 
 Tolerance: 1e-10 of each array's largest magnitude. The two kernels evaluate the same
 expressions in the same order (the blocked one drops the moments' zero drilling term and the
@@ -18,6 +19,19 @@ few ulps per operation. The forces are sums of a few dozen such terms, partly ca
 steps of a stable update do not amplify that (measured: ~3e-16 of scale); 1e-10 is far above
 round-off and far below any error in the element (a wrong sign, index or layer gives O(1)
 differences).
+
+Not bit for bit across kernels: two kernels give the same bits only when both were compiled in
+this process or both were loaded from Numba's on-disk cache. The kernels call the same
+non-inlined helpers (``block_kinematics``, ``block_layer_group``, ``block_forces``), which each
+kernel's module carries as ``linkonce_odr`` copies. A process that compiles a kernel runs the
+helper's own compiled copy (loaded first); a process that loads the kernel from the cache runs
+the copy optimised again inside the kernel's module, and with fast-math reassociation the two
+round differently. Measured (``NUMBA_CACHE_DIR`` emptied, then the same three steps in a
+compiling and in two cached processes): the cached runs' nodal forces differ from the compiling
+run's by up to 2.8e-14 N, 7e-17 of their 413 N scale, and the two cached runs give the same
+bits. So a cache written by earlier runs (a calibration, a
+batted-ball run) made the former bitwise checks fail at random. The thread-count check below
+stays bitwise: it runs one compiled kernel twice.
 """
 
 from __future__ import annotations
@@ -147,8 +161,8 @@ def test_blocked_kernel_does_not_depend_on_the_thread_count() -> None:
 
 
 def test_fused_assembly_is_the_serial_sum_of_the_cell_forces() -> None:
-    """The same bits as the cell forces summed node by node in cell order (np.add.at), and the
-    same state."""
+    """The cell forces summed node by node in cell order (np.add.at), and the same state, to
+    round-off (RTOL; not bit for bit, see the module's note)."""
     rng = np.random.default_rng(3)
     points, cells, section = curved_mesh(rng)
     state = random_state(rng, section)
@@ -162,18 +176,19 @@ def test_fused_assembly_is_the_serial_sum_of_the_cell_forces() -> None:
     for step in range(len(velocities)):
         expected = np.zeros((n_points, 6))
         np.add.at(expected, cells.ravel(), cell_forces[step].reshape(-1, 6))
-        assert np.array_equal(nodal_forces[step][:, :6], expected)
+        assert_close(nodal_forces[step][:, :6], expected, f"forces of step {step}")
         assert np.all(np.isnan(nodal_forces[step][:, 6]))
-    for a, b in zip(nodal_state, cell_state, strict=True):
-        assert np.array_equal(a, b)
+    for name, a, b in zip(("layer stress", "shear force", "hourglass"), nodal_state, cell_state,
+                          strict=True):  # fmt: skip
+        assert_close(a, b, name)
 
 
 @pytest.mark.parametrize("n_slots", [1, 3])
 def test_slot_kernel_sums_to_the_serial_assembly(n_slots: int) -> None:
     """The parallel fused kernel (one nodal array per run of blocks, summed by sum_slots) gives
     the serial assembly to round-off (a node shared by two runs is summed in two parts: a few
-    ulps of the largest force, RTOL as above) and the same state bits; each run writes only
-    inside its node range."""
+    ulps of the largest force, RTOL as above) and the same state to round-off (not bit for bit,
+    see the module's note); each run writes only inside its node range."""
     rng = np.random.default_rng(11)
     points, cells, section = curved_mesh(rng)
     state = random_state(rng, section)
@@ -193,12 +208,11 @@ def test_slot_kernel_sums_to_the_serial_assembly(n_slots: int) -> None:
         total = np.full((n_points, 6), np.nan)
         sum_slots(slots, ranges, -1.0, total)
         assert_close(-total, serial[step], f"forces of step {step}")
-        if n_slots == 1:
-            assert np.array_equal(-total, serial[step])
         moved += 1e-7 * velocity[:, :3]
-    for a, b in zip((packed.layer_stress, packed.shear_force, packed.hourglass), serial_state,
-                    strict=True):  # fmt: skip
-        assert np.array_equal(a, b)
+    for name, a, b in zip(("layer stress", "shear force", "hourglass"),
+                          (packed.layer_stress, packed.shear_force, packed.hourglass),
+                          serial_state, strict=True):  # fmt: skip
+        assert_close(a, b, name)
     assert ranges[0, 0] == 0 and ranges[-1, 1] == n_points
     assert np.all(ranges[:, 1] > ranges[:, 0])
 
