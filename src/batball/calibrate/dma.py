@@ -50,7 +50,7 @@ PRESSURE_UNITS: dict[str, float] = {
     "mpa": 1e6,
     "gpa": 1e9,
     "psi": PSI,
-    "ksi": 6894757.293168361,
+    "ksi": 6894757.293168361,  # 1000 psi to the nearest double (1e3 * PSI is one ulp low)
 }
 #: Frequency suffixes -> factor to angular frequency [rad/s].
 FREQUENCY_UNITS: dict[str, float] = {"hz": 2.0 * math.pi, "khz": 2e3 * math.pi, "rad_s": 1.0}

@@ -29,9 +29,9 @@ the copy optimised again inside the kernel's module, and with fast-math reassoci
 round differently. Measured (``NUMBA_CACHE_DIR`` emptied, then the same three steps in a
 compiling and in two cached processes): the cached runs' nodal forces differ from the compiling
 run's by up to 2.8e-14 N, 7e-17 of their 413 N scale, and the two cached runs give the same
-bits. So a cache written by earlier runs (a calibration, a
-batted-ball run) made the former bitwise checks fail at random. The thread-count check below
-stays bitwise: it runs one compiled kernel twice.
+bits. So a cache written by earlier runs (a calibration, a batted-ball run) made the former
+bitwise checks fail at random. The thread-count check below stays bitwise: it runs one compiled
+kernel twice.
 """
 
 from __future__ import annotations
@@ -57,6 +57,8 @@ from batball.materials.orthotropic import OrthotropicLamina, isotropic_lamina
 from batball.mesh.bat import revolve_rings
 
 RTOL = 1e-10
+#: The shell state arrays, in the order ``run`` returns them.
+STATE_NAMES = ("layer stress", "shear force", "hourglass")
 CARBON = OrthotropicLamina(name="carbon", density=1550.0, ea=138e9, eb=9.0e9, ec=9.0e9,
                            prba=0.3 * 9.0 / 138.0, gab=7.1e9, gbc=3.5e9, gca=7.1e9)  # fmt: skip
 STEEL = isotropic_lamina(name="steel", density=8000.0, youngs_modulus=200e9, poissons_ratio=0.3)
@@ -134,8 +136,7 @@ def test_blocked_kernel_matches_the_scalar_kernel(seed: int) -> None:
     actual = run(bt_force_kernel, points, cells, section, velocities, dt, state)
     for step in range(len(velocities)):
         assert_close(actual[0][step], expected[0][step], f"forces of step {step}")
-    for name, a, b in zip(("layer stress", "shear force", "hourglass"), actual[1], expected[1],
-                          strict=True):  # fmt: skip
+    for name, a, b in zip(STATE_NAMES, actual[1], expected[1], strict=True):
         assert_close(a, b, name)
     # the padding layers are left at zero
     padding = section.layer_thickness[section.cell_laminate] == 0.0
@@ -178,8 +179,7 @@ def test_fused_assembly_is_the_serial_sum_of_the_cell_forces() -> None:
         np.add.at(expected, cells.ravel(), cell_forces[step].reshape(-1, 6))
         assert_close(nodal_forces[step][:, :6], expected, f"forces of step {step}")
         assert np.all(np.isnan(nodal_forces[step][:, 6]))
-    for name, a, b in zip(("layer stress", "shear force", "hourglass"), nodal_state, cell_state,
-                          strict=True):  # fmt: skip
+    for name, a, b in zip(STATE_NAMES, nodal_state, cell_state, strict=True):
         assert_close(a, b, name)
 
 
@@ -209,9 +209,8 @@ def test_slot_kernel_sums_to_the_serial_assembly(n_slots: int) -> None:
         sum_slots(slots, ranges, -1.0, total)
         assert_close(-total, serial[step], f"forces of step {step}")
         moved += 1e-7 * velocity[:, :3]
-    for name, a, b in zip(("layer stress", "shear force", "hourglass"),
-                          (packed.layer_stress, packed.shear_force, packed.hourglass),
-                          serial_state, strict=True):  # fmt: skip
+    slot_state = (packed.layer_stress, packed.shear_force, packed.hourglass)
+    for name, a, b in zip(STATE_NAMES, slot_state, serial_state, strict=True):
         assert_close(a, b, name)
     assert ranges[0, 0] == 0 and ranges[-1, 1] == n_points
     assert np.all(ranges[:, 1] > ranges[:, 0])
