@@ -14,8 +14,12 @@ import numba as nb
 
 from batball.errors import SpecError
 
-#: Fast-math flags that keep NaN and infinity semantics, so failure checks still see them.
-FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
+#: Fast-math flags that keep NaN and infinity semantics, so failure checks still see them, and
+#: leave out ``reassoc``: Numba links a copy of each non-inlined callee (and of each prange body)
+#: into every cached kernel and optimises it again there, and with reassociation that copy and
+#: the callee's first one round differently, so a process that compiled a kernel and one that
+#: loaded it from the cache gave different bits (docs/precision.md, "Same input, same bits").
+FASTMATH = {"nsz", "arcp", "contract", "afn"}
 
 #: Environment variable choosing the SIMD width of the kernels: "512" (the default where the CPU
 #: has AVX-512) or "256" (LLVM's own choice for these CPUs).

@@ -41,13 +41,11 @@ def test_dask_local_cluster_gives_the_same_evaluations_as_the_process_pool() -> 
     assert evaluator.computed == 2 * len(POINTS)  # every run went to the cluster
     for a, b in zip(found, expected, strict=True):
         assert a.values == b.values
-        # The same runs, to round-off amplified by the impact. Not bit for bit: a worker that
-        # compiled the kernels and one that loaded them from Numba's cache run code that rounds
-        # differently (docs/precision.md), and the contact grows that. Measured, these two
-        # points in a compiling and in a cached process: up to 1.1e-6 apart (CCOR 2e-7 and
-        # 1.1e-6, peak force 5e-7 and 6e-7); the cached runs repeat to the bit. The two points
-        # differ by 41 % and 4 %, so 1e-5 still tells a swapped or wrong point from the same.
-        np.testing.assert_allclose(a.simulated, b.simulated, rtol=1e-5)
+        # The same runs, to the bit: a worker that compiled the kernels and one that loaded
+        # them from Numba's cache run code that rounds alike (docs/precision.md). Before the
+        # fast-math flags lost ``reassoc`` these two points differed by up to 1.1e-6 between a
+        # compiling and a cached process.
+        np.testing.assert_array_equal(a.simulated, b.simulated)
         assert np.isfinite(a.simulated).all()
 
 

@@ -1,13 +1,11 @@
 """Kill a study mid-way, restart it: nothing finished is run again, nothing is lost, and the
 answer is that of an uninterrupted study.
 
-"The same answer" holds when every session runs the same compiled kernels. A session that
-compiles them and one that loads them from Numba's on-disk cache differ at about 1e-6 per run
-(docs/precision.md), and that is enough to change the path of this short, unconverged fit:
-measured, a compiling and a cached session of this very command ended 0.27 % apart in g0 and
-beta. So the test first runs a one-evaluation study, which leaves every kernel in the cache;
-then the killed, the resumed and the uninterrupted sessions all load them (with a cold cache
-the killed session compiled and the check failed: 30 runs stored against 26)."""
+"The same answer" is to the bit: a session that compiles the kernels and one that loads them
+from Numba's on-disk cache round alike (docs/precision.md). Before the fast-math flags lost
+``reassoc`` they differed at about 1e-6 per run, enough to change the path of this short,
+unconverged fit (0.27 % in g0 and beta). The test still runs a one-evaluation study first, so
+that the killed session is killed while it runs the ball, not while it compiles."""
 
 from __future__ import annotations
 
@@ -73,7 +71,7 @@ def test_killed_study_resumes_without_repeating_runs_and_ends_at_the_same_answer
 ) -> None:
     targets = tmp_path / "targets.toml"
     targets.write_text(TARGETS)
-    # every kernel into Numba's cache, so that all three sessions below load the same code
+    # every kernel into Numba's cache, so that the sessions below spend their time running
     subprocess.run(calibrate_command(tmp_path / "warm.db", targets, evaluations=1),
                    env=environment(), capture_output=True, timeout=300, check=True)  # fmt: skip
     study = tmp_path / "killed.db"

@@ -13,25 +13,18 @@ round-off as well.
 Tolerance: 1e-10 of each array's largest magnitude. The two kernels evaluate the same
 expressions in the same order (the blocked one drops the moments' zero drilling term and the
 padding layers' zero terms, exact); they differ only in what LLVM's fast-math flags let it do
-(contraction into fused multiply-adds, reassociation) differently in vector and scalar code, a
+(contraction into fused multiply-adds) differently in vector and scalar code, a
 few ulps per operation. The forces are sums of a few dozen such terms, partly cancelling
 (sum B_I = 0), so they are compared against the array's scale rather than element-wise. Five
 steps of a stable update do not amplify that (measured: ~3e-16 of scale); 1e-10 is far above
 round-off and far below any error in the element (a wrong sign, index or layer gives O(1)
 differences).
 
-Not bit for bit across kernels: two kernels give the same bits only when both were compiled in
-this process or both were loaded from Numba's on-disk cache. The kernels call the same
-non-inlined helpers (``block_kinematics``, ``block_layer_group``, ``block_forces``), which each
-kernel's module carries as ``linkonce_odr`` copies. A process that compiles a kernel runs the
-helper's own compiled copy (loaded first); a process that loads the kernel from the cache runs
-the copy optimised again inside the kernel's module, and with fast-math reassociation the two
-round differently. Measured (``NUMBA_CACHE_DIR`` emptied, then the same three steps in a
-compiling and in two cached processes): the cached runs' nodal forces differ from the compiling
-run's by up to 2.8e-14 N, 7e-17 of their 413 N scale, and the two cached runs give the same
-bits. So a cache written by earlier runs (a calibration, a batted-ball run) made the former
-bitwise checks fail at random. The thread-count check below stays bitwise: it runs one compiled
-kernel twice.
+Not bit for bit across kernels: they are different compiled code (vector against scalar, cell
+forces against fused sums), and fast math lets LLVM contract each differently. A kernel compiled
+in this process and one loaded from Numba's cache do give the same bits now
+(``test_compile_state.py``; docs/precision.md). The thread-count check below stays bitwise: it
+runs one compiled kernel twice.
 """
 
 from __future__ import annotations
