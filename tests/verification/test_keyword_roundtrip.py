@@ -84,16 +84,21 @@ def test_cli_run_reports_an_unsupported_keyword(
 
 
 @pytest.mark.parametrize(
-    ("long", "rel_point", "rel_fit"), [(True, 1e-9, 1e-9), (False, 5e-3, 1e-3)]
+    ("long", "rel_point", "rel_fit"), [(True, 1e-3, 1e-3), (False, 5e-3, 1e-3)]
 )
 def test_compression_deck_round_trip(
     long: bool, rel_point: float, rel_fit: float, tmp_path: Path
 ) -> None:
     """Compression (moving plate, mass-scaled density, global damping): export -> read -> run
-    against the direct run_compression. Long format: the same model (1e-9 as above). Standard
-    format rounds the plate speed (1/60 in/s to 5 digits) and the mass-scaled density; the coarse
-    curve steps as each ring of nodes reaches a plate, so the point reading at 0.25 in moved by
-    1.5e-3 (tolerance 5e-3) and the power-law fit, which averages the steps, by 1.1e-4 (1e-3)."""
+    against the direct run_compression. Standard format rounds the plate speed (1/60 in/s to 5
+    digits) and the mass-scaled density; the coarse curve steps as each ring of nodes reaches a
+    plate, so the point reading at 0.25 in moved by 1.5e-3 (tolerance 5e-3) and the power-law
+    fit, which averages the steps, by 1.1e-4 (1e-3). Long format: the same model to round-off
+    (node coordinates 1.7e-18 m apart), but this 3-division ball's contact chatters, and which
+    step a node meets the plate on can flip with round-off: direct runs with the nodes moved
+    at random by 1e-18 m gave 28.5290 lbf in most cases and 28.5196 or 28.5220 lbf (3.3e-4,
+    2.4e-4 off; the fit 1.9e-4) in 4 of 30 with the fast-math flags before 2026-11-23 and 2 of 30
+    after. The deck's round-off lands on 28.5220 since then (4e-12 off before), so 1e-3."""
     from batball.io.keyword_export import compression_deck
     from batball.lab.compression import CompressionSetup, run_compression
 

@@ -41,11 +41,13 @@ def test_dask_local_cluster_gives_the_same_evaluations_as_the_process_pool() -> 
     assert evaluator.computed == 2 * len(POINTS)  # every run went to the cluster
     for a, b in zip(found, expected, strict=True):
         assert a.values == b.values
-        # The same runs, to the bit: a worker that compiled the kernels and one that loaded
-        # them from Numba's cache run code that rounds alike (docs/precision.md). Before the
-        # fast-math flags lost ``reassoc`` these two points differed by up to 1.1e-6 between a
-        # compiling and a cached process.
-        np.testing.assert_array_equal(a.simulated, b.simulated)
+        # The same runs: a worker that compiled the kernels and one that loaded them from
+        # Numba's cache run code that rounds alike (docs/precision.md; before the fast-math
+        # flags lost ``reassoc`` these points differed by up to 1.1e-6). Not bit for bit: in
+        # CI the pool's and the cluster's CCOR once differed in the last bit (1.4e-16) with the
+        # peak force equal, so the trajectories were the same and the bit comes from the
+        # reading after them (NumPy's reductions may round by alignment). 1e-12 allows that.
+        np.testing.assert_allclose(a.simulated, b.simulated, rtol=1e-12)
         assert np.isfinite(a.simulated).all()
 
 
