@@ -18,7 +18,8 @@ from batball.errors import SpecError
 #: leave out ``reassoc``: Numba links a copy of each non-inlined callee (and of each prange body)
 #: into every cached kernel and optimises it again there, and with reassociation that copy and
 #: the callee's first one round differently, so a process that compiled a kernel and one that
-#: loaded it from the cache gave different bits (docs/precision.md, "Same input, same bits").
+#: loaded it from the cache gave different bits (docs/precision.md,
+#: "Same input, same bits, compiled or cached").
 FASTMATH = {"nsz", "arcp", "contract", "afn"}
 
 #: Environment variable choosing the SIMD width of the kernels: "512" (the default where the CPU

@@ -20,11 +20,12 @@ steps of a stable update do not amplify that (measured: ~3e-16 of scale); 1e-10 
 round-off and far below any error in the element (a wrong sign, index or layer gives O(1)
 differences).
 
-Not bit for bit across kernels: they are different compiled code (vector against scalar, cell
-forces against fused sums), and fast math lets LLVM contract each differently. A kernel compiled
-in this process and one loaded from Numba's cache do give the same bits now
-(``test_compile_state.py``; docs/precision.md). The thread-count check below stays bitwise: it
-runs one compiled kernel twice.
+Different kernels are compared to round-off. The blocked and the scalar kernel are different
+code. The fused and slot kernels gave the cell-force kernel's bits whenever both were compiled
+in one state, but not when one was compiled and the other loaded from Numba's cache, until the
+fast-math flags lost ``reassoc`` (``test_compile_state.py``; docs/precision.md); they are
+checked to RTOL since. The thread-count check below stays bitwise: it runs one compiled kernel
+twice.
 """
 
 from __future__ import annotations
