@@ -14,16 +14,23 @@
 # mesh"): bounded least squares from the coarse fit, no global stage, at most 8 evaluations,
 # 2 workers (docs/foams.md, "The fine stage for MAT_057").
 #
+# Curve-shape fits (<name>-sfa, after <name>-12div): the same fine stage with the loading curve's
+# strain scale (SFA, curve_strain_scale) free as well, so that the fit moves where the curve
+# densifies and not only its level (docs/foams.md, "The loading curve's shape"); SFA in
+# [0.6, 1.4] (the example curve ends at 0.7 strain, and a scaled strain must stay <= 0.99).
+#
 # Writes benchmarks/calibration/<name>.json and the fitted balls <name>.toml.
 # Usage: benchmarks/calibrate_foam_balls.sh [name ...]
 #   (default: type1-mat057 type2-mat057 type1-mat083 type2-mat083; also type1-mat057-12div,
-#   type2-mat057-12div)
+#   type2-mat057-12div, type1-mat057-sfa, type2-mat057-sfa)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=benchmarks/calibration
 STUDIES=${STUDIES:-runs}
 PY=${PY:-python}
 COARSE="--quick --coarse-divisions 8 --workers 1"
+SHAPE="--free curve_scale --free hu --free shape --free damp --free curve_strain_scale
+  --bound curve_strain_scale=0.6:1.4"
 FINE="--quick --global-points 0 --coarse-divisions 12 --max-evaluations 8 --workers 2"
 declare -A ARGS=(
   [type1-mat057]="--ball type1 --model mat057 $COARSE --global-points 8 --max-evaluations 12"
@@ -32,6 +39,8 @@ declare -A ARGS=(
   [type2-mat083]="--ball type2 --model mat083 $COARSE --global-points 6 --max-evaluations 8"
   [type1-mat057-12div]="--ball $OUT/type1-mat057.toml --model mat057 $FINE"
   [type2-mat057-12div]="--ball $OUT/type2-mat057.toml --model mat057 $FINE"
+  [type1-mat057-sfa]="--ball $OUT/type1-mat057-12div.toml --model mat057 $FINE $SHAPE"
+  [type2-mat057-sfa]="--ball $OUT/type2-mat057-12div.toml --model mat057 $FINE $SHAPE"
 )
 names=("$@")
 [ ${#names[@]} -eq 0 ] && names=(type1-mat057 type2-mat057 type1-mat083 type2-mat083)

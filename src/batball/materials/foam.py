@@ -35,8 +35,12 @@ average of the rate (SRAF): the scalar rate is the true strain rate along the mo
 principal direction (RFLAG = 0, SFLAG = 0) through a first-order filter of cut-off
 ``rate_filter``, like LAW90's.
 
-A curve scale factor (``curve_scale``, LS-DYNA's SFO of the curve) multiplies every loading curve
-so that a calibration can move the curve's level without changing its shape.
+A curve scale factor (``curve_scale``, LS-DYNA's SFO of the curve) multiplies every loading curve's
+stress so that a calibration can move the curve's level without changing its shape; a strain scale
+factor (``curve_strain_scale``, the curve's SFA, *DEFINE_CURVE's abscissa scale) multiplies every
+curve's strain, so that, with the level, a calibration can move where the curve densifies: the
+curve used is curve_scale * f(e / curve_strain_scale). The scaled strains must stay at or below
+MAX_CURVE_STRAIN (a stretch must stay positive).
 """
 
 from __future__ import annotations
@@ -93,6 +97,11 @@ def _common_parameters(*, hu_lower: float, hu_inclusive: bool) -> list[Parameter
             "curve_scale", "dimensionless", "", 0.0, 100.0,
             "scale factor on the stress of every loading curve (the curve's SFO)", "SFO",
             log_scale=True,
+        ),
+        Parameter(
+            "curve_strain_scale", "dimensionless", "", 0.0, 100.0,
+            "scale factor on the strain of every loading curve (the curve's SFA): below 1 the "
+            "curve densifies earlier", "SFA", log_scale=True, default=1.0,
         ),
     ]  # fmt: skip
 
@@ -192,8 +201,16 @@ class FoamLaw(MaterialLaw):
     kind: float = KIND_MAT057
     max_curves: int = 1
 
-    def check_curves(self, curves: Sequence[FoamCurve], *, prefix: str = "material") -> None:
-        """SpecError naming ``<prefix>.curves[i]...`` unless the curves suit the law."""
+    def check_curves(
+        self,
+        curves: Sequence[FoamCurve],
+        *,
+        prefix: str = "material",
+        values: Mapping[str, float] | None = None,
+    ) -> None:
+        """SpecError naming ``<prefix>.curves[i]...`` unless the curves suit the law, or
+        ``<prefix>.curve_strain_scale`` if ``values``' strain scale takes a curve's last strain
+        past MAX_CURVE_STRAIN."""
         if not 1 <= len(curves) <= self.max_curves:
             allowed = "one loading curve" if self.max_curves == 1 else "one curve per strain rate"
             raise SpecError(f"{prefix}.curves", f"{len(curves)} curves", allowed)
@@ -202,10 +219,21 @@ class FoamLaw(MaterialLaw):
         rates = [c.strain_rate for c in curves]
         if any(b <= a for a, b in zip(rates, rates[1:], strict=False)):
             raise SpecError(f"{prefix}.curves.strain_rate", rates, "increasing strain rates")
+        if values is not None:
+            largest = max(c.strain[-1] for c in curves)
+            scale = values["curve_strain_scale"]
+            if scale * largest > MAX_CURVE_STRAIN:
+                raise SpecError(
+                    f"{prefix}.curve_strain_scale", scale,
+                    f"at most {MAX_CURVE_STRAIN / largest:.6g}, so that the largest curve "
+                    f"strain, {largest:g}, scaled stays <= {MAX_CURVE_STRAIN}",
+                )  # fmt: skip
 
     def effective_modulus(self, values: Mapping[str, float], curves: Sequence[FoamCurve]) -> float:
         """LS-DYNA's default contact and time-step modulus max(E, largest slope) (+ E_d) [Pa]."""
-        slope = values["curve_scale"] * max(c.max_slope() for c in curves)
+        slope = (values["curve_scale"] / values["curve_strain_scale"]) * max(
+            c.max_slope() for c in curves
+        )
         return max(values["youngs_modulus"], slope) + values.get("rate_modulus", 0.0)
 
     def kernel_constants(
@@ -221,12 +249,15 @@ class FoamLaw(MaterialLaw):
             raise SpecError("material.curves", "none", f"the loading curve(s) of {self.name}")
         e_eff = self.effective_modulus(values, curves)
         first = curves[0]
-        e_0 = values["curve_scale"] * first.stress[1] / first.strain[1]
+        e_0 = (
+            values["curve_scale"] * first.stress[1]
+            / (values["curve_strain_scale"] * first.strain[1])
+        )  # fmt: skip
         return np.array([e_eff, 0.0, e_0 / 3.0, 0.0], dtype=np.float64)
 
     def foam_table(self, values: Mapping[str, float], curves: Sequence[FoamCurve]) -> FoamTable:
         """Pack ``values`` and ``curves`` for :mod:`batball.elements.hex8_foam`."""
-        self.check_curves(curves)
+        self.check_curves(curves, values=values)
         params = np.zeros(N_FOAM_PARAMS)
         params[P_KIND] = self.kind
         params[P_E] = values["youngs_modulus"]
@@ -244,7 +275,8 @@ class FoamLaw(MaterialLaw):
         stresses = np.empty((len(curves), n_max))
         for i, c in enumerate(curves):
             n = len(c.strain)
-            strains[i, :n], strains[i, n:] = c.strain, c.strain[-1]
+            strains[i, :n] = values["curve_strain_scale"] * np.asarray(c.strain)
+            strains[i, n:] = strains[i, n - 1]
             stresses[i, :n] = values["curve_scale"] * np.asarray(c.stress)
             stresses[i, n:] = stresses[i, n - 1]
         energies = np.zeros(n_max)

@@ -24,6 +24,9 @@ class Parameter:
         meaning: one line for reports.
         lsdyna_field: the keyword-card field name (``"G0"``).
         log_scale: calibration should search this parameter in log space.
+        default: the value (SI) a spec that omits the parameter gets; None: it is required.
+            Only parameters added after spec files existed have one, so that those files
+            still read as they did.
     """
 
     name: str
@@ -35,3 +38,4 @@ class Parameter:
     lsdyna_field: str
     lower_inclusive: bool = False
     log_scale: bool = False
+    default: float | None = None

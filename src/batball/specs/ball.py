@@ -98,7 +98,8 @@ class MaterialSpec:
     Attributes:
         law: key of :data:`batball.materials.MATERIAL_LAWS` (``"mat006"``, ``"elastic"``).
         values: ``{parameter name: value}`` in SI (Pa, 1/s, ...), one entry per declared
-            parameter of the law, in declaration order.
+            parameter of the law, in declaration order (a parameter with a declared default
+            may be left out and gets it).
         curves: the loading curves of a foam law (MAT_057: one; MAT_083: one per strain rate);
             empty for the other laws.
 
@@ -115,12 +116,14 @@ class MaterialSpec:
     def __post_init__(self) -> None:
         law = material_law(self.law, field="material.law")
         _reject_unknown_keys(self.values, [p.name for p in law.parameters], prefix="material.")
-        law.check(self.values, prefix="material")
-        ordered = {p.name: float(self.values[p.name]) for p in law.parameters}
+        defaults = {p.name: p.default for p in law.parameters if p.default is not None}
+        values = {**defaults, **self.values}
+        law.check(values, prefix="material")
+        ordered = {p.name: float(values[p.name]) for p in law.parameters}
         object.__setattr__(self, "values", ParameterValues(ordered))
         object.__setattr__(self, "curves", tuple(self.curves))
         if isinstance(law, FoamLaw):
-            law.check_curves(self.curves, prefix="material")
+            law.check_curves(self.curves, prefix="material", values=self.values)
         elif self.curves:
             raise SpecError("material.curves", f"{len(self.curves)} curves", f"none for {law.name}")
 
@@ -240,6 +243,8 @@ def material_spec_from_dict(table: object, *, field: str = "material") -> Materi
     values = {}
     for p in law.parameters:
         path = f"{field}.{p.name}"
+        if p.default is not None and p.name not in table:
+            continue  # MaterialSpec fills it in
         raw = _required(table, p.name, field=path, allowed=allowed_text(p.dimension))
         values[p.name] = parse_quantity(raw, p.dimension, field=path)
     curves: tuple[FoamCurve, ...] = ()

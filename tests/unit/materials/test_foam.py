@@ -38,16 +38,47 @@ def _curve(material: MaterialSpec, i: int = 0) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(c.strain), np.asarray(c.stress)
 
 
-@pytest.mark.parametrize("scale", [1.0, 1.7])
-def test_uniaxial_compression_follows_the_loading_curve(scale: float) -> None:
-    material = _material("foam057", curve_scale=scale)
+@pytest.mark.parametrize(
+    ("scale", "strain_scale"), [(1.0, 1.0), (1.7, 1.0), (1.7, 0.8), (1.0, 1.3)]
+)
+def test_uniaxial_compression_follows_the_loading_curve(scale: float, strain_scale: float) -> None:
+    # the curve used is SFO * f(e / SFA) (LS-DYNA *DEFINE_CURVE's ordinate and abscissa scales)
+    material = _material("foam057", curve_scale=scale, curve_strain_scale=strain_scale)
     strain, stress = _curve(material)
     history = np.zeros(N_HISTORY)
-    for s in (0.02, 0.05, 0.13, 0.27, 0.45, 0.66):  # increasing: loading all the way
+    for x in (0.02, 0.05, 0.13, 0.27, 0.45, 0.66):  # increasing: loading all the way
+        s = strain_scale * x  # inside the scaled curve (np.interp does not extrapolate)
         sigma = _stress(material, np.diag([1.0 - s, 1.0, 1.0]), history)
         # lateral stretches are 1, so the Cauchy stress equals the nominal stress
-        expected = -scale * np.interp(s, strain, stress)
+        expected = -scale * np.interp(x, strain, stress)
         assert sigma[0, 0] == pytest.approx(expected, rel=1e-12)
+
+
+def test_the_strain_scale_moves_the_contact_modulus_and_defaults_to_one() -> None:
+    material = _material("foam057", curve_scale=2.0)
+    document = ball_spec_to_toml_dict(load_ball_spec("foam057"))
+    del document["material"]["curve_strain_scale"]  # a spec written before the parameter existed
+    assert ball_spec_from_dict(document, source="test").material.values["curve_strain_scale"] == 1.0
+    strain, stress = _curve(material)
+    steepest = np.max(np.diff(stress) / np.diff(strain))
+    youngs = material.values["youngs_modulus"]
+    for strain_scale in (1.0, 0.5, 1.4):
+        scaled = _material("foam057", curve_scale=2.0, curve_strain_scale=strain_scale)
+        # LS-DYNA's max(E, largest slope): the scaled curve's slopes are SFO / SFA times f's
+        expected = max(youngs, 2.0 * steepest / strain_scale)
+        assert scaled.kernel_constants()[0] == pytest.approx(expected, rel=1e-12)
+
+
+def test_a_strain_scale_past_the_largest_strain_is_a_spec_error() -> None:
+    # foam057's curve ends at 0.7: 0.7 * 1.42 = 0.994 > 0.99
+    document = ball_spec_to_toml_dict(load_ball_spec("foam057"))
+    document["material"]["curve_strain_scale"] = 1.42
+    with pytest.raises(SpecError) as error:
+        ball_spec_from_dict(document, source="test")
+    assert error.value.field == "material.curve_strain_scale"
+    assert "1.41429" in str(error.value)
+    document["material"]["curve_strain_scale"] = 1.41
+    ball_spec_from_dict(document, source="test")
 
 
 def test_no_lateral_coupling_and_the_nominal_to_cauchy_map() -> None:
@@ -71,10 +102,18 @@ def _energy(strain: np.ndarray, stress: np.ndarray, s: float) -> float:
     return float(np.trapezoid(np.interp(x, strain, stress), x))
 
 
-@pytest.mark.parametrize(("hu", "shape"), [(0.2, 2.0), (0.5, 1.0), (0.05, 0.5)])
-def test_unloading_scales_the_curve_by_the_hu_shape_damage(hu: float, shape: float) -> None:
-    material = _material("foam057", hu=hu, shape=shape)
+@pytest.mark.parametrize(
+    ("hu", "shape", "strain_scale"),
+    [(0.2, 2.0, 1.0), (0.5, 1.0, 1.0), (0.05, 0.5, 1.0), (0.2, 2.0, 0.8)],
+)
+def test_unloading_scales_the_curve_by_the_hu_shape_damage(
+    hu: float, shape: float, strain_scale: float
+) -> None:
+    material = _material("foam057", hu=hu, shape=shape, curve_strain_scale=strain_scale)
     strain, stress = _curve(material)
+    # the scaled curve f(e / SFA): its energy at e is SFA * (f's energy at e / SFA), and SFA
+    # cancels in W / W_max
+    strain = strain * strain_scale
     history = np.zeros(N_HISTORY)
     _stress(material, np.diag([0.6, 1.0, 1.0]), history)  # load to 40 %
     w_max = _energy(strain, stress, 0.4)
