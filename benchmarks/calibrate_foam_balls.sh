@@ -18,11 +18,14 @@
 # strain scale (SFA, curve_strain_scale) free as well, so that the fit moves where the curve
 # densifies and not only its level (docs/foams.md, "The loading curve's shape"); SFA in
 # [0.6, 1.4] (the example curve ends at 0.7 strain, and a scaled strain must stay <= 0.99).
+# type2-mat057-sfa14: the type-2 fit with SFA held at 1.4 (where type 1's ran to), the four
+# default parameters free, from type2-mat057-sfa14-start.toml, to see whether the curve's shape
+# moves the type-2 BBS trend with the ball tests still matched.
 #
 # Writes benchmarks/calibration/<name>.json and the fitted balls <name>.toml.
 # Usage: benchmarks/calibrate_foam_balls.sh [name ...]
 #   (default: type1-mat057 type2-mat057 type1-mat083 type2-mat083; also type1-mat057-12div,
-#   type2-mat057-12div, type1-mat057-sfa, type2-mat057-sfa)
+#   type2-mat057-12div, type1-mat057-sfa, type2-mat057-sfa, type2-mat057-sfa14)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=benchmarks/calibration
@@ -41,6 +44,7 @@ declare -A ARGS=(
   [type2-mat057-12div]="--ball $OUT/type2-mat057.toml --model mat057 $FINE"
   [type1-mat057-sfa]="--ball $OUT/type1-mat057-12div.toml --model mat057 $FINE $SHAPE"
   [type2-mat057-sfa]="--ball $OUT/type2-mat057-12div.toml --model mat057 $FINE $SHAPE"
+  [type2-mat057-sfa14]="--ball $OUT/type2-mat057-sfa14-start.toml --model mat057 $FINE"
 )
 names=("$@")
 [ ${#names[@]} -eq 0 ] && names=(type1-mat057 type2-mat057 type1-mat083 type2-mat083)
