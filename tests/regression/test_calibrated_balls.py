@@ -6,7 +6,10 @@ ones docs/calibration.md lists as not reached (type 1's CCOR at 95 mph with MAT_
 model cannot follow CCOR's fall with speed; see the trade-off there). The same for the MAT_057
 foam balls fitted on this mesh (``<ball>-mat057-12div``, docs/foams.md "The fine stage for
 MAT_057"): type 1's CCOR at 95 mph for the same reason, and type 2's CCORs, which the seed's
-LS-DYNA had within 0.9 % and the foam within 1.1 %.
+LS-DYNA had within 0.9 % and the foam within 1.1 %. And the type-2 foam refitted with its curve
+densifying later (``type2-mat057-sfa14``, docs/foams.md "The loading curve's shape"): every cell
+within the calibration goal (CCOR 1 %, peak force 3 %, DS and contact time 5 %), its CCORs
+(-0.9 / +0.9 %) still a little farther than the seed's LS-DYNA (-0.9 / -0.7 %).
 """
 
 from __future__ import annotations
@@ -33,7 +36,11 @@ NOT_REACHED = {
     ("type1-mat057-12div", 95, "ccor"),
     ("type2-mat057-12div", 95, "ccor"),
     ("type2-mat057-12div", 110, "ccor"),
+    ("type2-mat057-sfa14", 95, "ccor"),
+    ("type2-mat057-sfa14", 110, "ccor"),
 }
+#: The calibration goals of issues 4 and 5, per cent of the experiment.
+GOAL_PCT = {"ccor": 1.0, "dynamic_stiffness": 5.0, "peak_force": 3.0, "contact_time": 5.0}
 _RUNS: dict[tuple[str, int], object] = {}
 
 
@@ -48,7 +55,14 @@ def measures(fit: str, mph: int):
 @pytest.mark.parametrize("quantity", list(QUANTITIES))
 @pytest.mark.parametrize("mph", [95, 110])
 @pytest.mark.parametrize(
-    "fit", ["type1-mat006", "type2-mat006", "type1-mat057-12div", "type2-mat057-12div"]
+    "fit",
+    [
+        "type1-mat006",
+        "type2-mat006",
+        "type1-mat057-12div",
+        "type2-mat057-12div",
+        "type2-mat057-sfa14",
+    ],
 )
 def test_calibrated_ball_is_as_close_to_the_experiment_as_the_seed(fit, mph, quantity) -> None:
     attribute, column = QUANTITIES[quantity]
@@ -60,3 +74,14 @@ def test_calibrated_ball_is_as_close_to_the_experiment_as_the_seed(fit, mph, qua
         assert not closer, "reached now: remove it from NOT_REACHED and docs/calibration.md"
     else:
         assert closer, f"{batball:.5g} vs experiment {experiment:.5g}, seed {seed:.5g}"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("quantity", list(QUANTITIES))
+@pytest.mark.parametrize("mph", [95, 110])
+def test_type2_foam_with_later_densification_meets_every_goal(mph, quantity) -> None:
+    attribute, column = QUANTITIES[quantity]
+    experiment = getattr(load_seed_tables().ball_impact("type2", mph), f"{column}_exp")
+    batball = getattr(measures("type2-mat057-sfa14", mph), attribute)
+    error_pct = 100.0 * (batball - experiment) / experiment
+    assert abs(error_pct) <= GOAL_PCT[quantity], f"{error_pct:+.2f} % of {experiment:.5g}"
