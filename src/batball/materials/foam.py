@@ -202,11 +202,7 @@ class FoamLaw(MaterialLaw):
     max_curves: int = 1
 
     def check_curves(
-        self,
-        curves: Sequence[FoamCurve],
-        *,
-        prefix: str = "material",
-        values: Mapping[str, float] | None = None,
+        self, curves: Sequence[FoamCurve], values: Mapping[str, float], *, prefix: str = "material"
     ) -> None:
         """SpecError naming ``<prefix>.curves[i]...`` unless the curves suit the law, or
         ``<prefix>.curve_strain_scale`` if ``values``' strain scale takes a curve's last strain
@@ -219,15 +215,14 @@ class FoamLaw(MaterialLaw):
         rates = [c.strain_rate for c in curves]
         if any(b <= a for a, b in zip(rates, rates[1:], strict=False)):
             raise SpecError(f"{prefix}.curves.strain_rate", rates, "increasing strain rates")
-        if values is not None:
-            largest = max(c.strain[-1] for c in curves)
-            scale = values["curve_strain_scale"]
-            if scale * largest > MAX_CURVE_STRAIN:
-                raise SpecError(
-                    f"{prefix}.curve_strain_scale", scale,
-                    f"at most {MAX_CURVE_STRAIN / largest:.6g}, so that the largest curve "
-                    f"strain, {largest:g}, scaled stays <= {MAX_CURVE_STRAIN}",
-                )  # fmt: skip
+        largest = max(c.strain[-1] for c in curves)
+        scale = values["curve_strain_scale"]
+        if scale * largest > MAX_CURVE_STRAIN:
+            raise SpecError(
+                f"{prefix}.curve_strain_scale", scale,
+                f"at most {MAX_CURVE_STRAIN / largest:.6g}, so that the largest curve "
+                f"strain, {largest:g}, scaled stays <= {MAX_CURVE_STRAIN}",
+            )  # fmt: skip
 
     def effective_modulus(self, values: Mapping[str, float], curves: Sequence[FoamCurve]) -> float:
         """LS-DYNA's default contact and time-step modulus max(E, largest slope) (+ E_d) [Pa]."""
@@ -257,7 +252,7 @@ class FoamLaw(MaterialLaw):
 
     def foam_table(self, values: Mapping[str, float], curves: Sequence[FoamCurve]) -> FoamTable:
         """Pack ``values`` and ``curves`` for :mod:`batball.elements.hex8_foam`."""
-        self.check_curves(curves, values=values)
+        self.check_curves(curves, values)
         params = np.zeros(N_FOAM_PARAMS)
         params[P_KIND] = self.kind
         params[P_E] = values["youngs_modulus"]

@@ -123,7 +123,7 @@ class MaterialSpec:
         object.__setattr__(self, "values", ParameterValues(ordered))
         object.__setattr__(self, "curves", tuple(self.curves))
         if isinstance(law, FoamLaw):
-            law.check_curves(self.curves, prefix="material", values=self.values)
+            law.check_curves(self.curves, self.values, prefix="material")
         elif self.curves:
             raise SpecError("material.curves", f"{len(self.curves)} curves", f"none for {law.name}")
 
