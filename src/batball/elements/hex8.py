@@ -237,10 +237,12 @@ def compute_hex8_forces(
 
     Args:
         points: (n_points, 3) coordinates x^n [m]; velocities: (n_points, 3) v^(n-1/2) [m/s].
-        cells: (n_cells, 8) node ids; dt: the step dt^(n-1/2) [s] that led to x^n.
-        cell_material: (n_cells,) row of ``material_constants`` (n_materials, 2 N + 2: K, G0,
-            G_inf [Pa], beta_1 [1/s], then (G_i [Pa], beta_i [1/s]) for Prony terms i = 2..N;
-            N = 1 is MAT_006's K, G0, G_inf, beta) and ``densities`` (n_materials,) [kg/m^3].
+        cells: (n_cells, 8) node ids (int32; another integer type is converted, a copy);
+            dt: the step dt^(n-1/2) [s] that led to x^n.
+        cell_material: (n_cells,) (int32, as ``cells``) row of ``material_constants``
+            (n_materials, 2 N + 2: K, G0, G_inf [Pa], beta_1 [1/s], then (G_i [Pa],
+            beta_i [1/s]) for Prony terms i = 2..N; N = 1 is MAT_006's K, G0, G_inf, beta) and
+            ``densities`` (n_materials,) [kg/m^3].
         history: (n_blocks, rows * BLOCK) in/out, the element history in the kernel's block
             layout (:func:`batball.elements.hex8_block.pack_history` builds it from element-wise
             arrays and ``unpack_history`` reads it): initial volume [m^3], long-time deviatoric
@@ -275,6 +277,10 @@ def compute_hex8_forces(
             f"nodal_forces has shape {nodal_forces.shape}; expected (n_slots, n_points, 3) with "
             f"n_slots = {len(energy_increments)}, the rows of energy_increments"
         )
+    # One integer type for the node ids and material rows, so that a kernel form compiles once
+    # (about 30 s each) whichever caller it serves; a no-op for the solvers, which keep int32.
+    cells = np.ascontiguousarray(cells, dtype=np.int32)
+    cell_material = np.ascontiguousarray(cell_material, dtype=np.int32)
     _KERNELS[hg_type, n_terms](
         (points, velocities, cells),
         (cell_material, material_constants, densities),

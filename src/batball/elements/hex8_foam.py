@@ -254,7 +254,8 @@ def compute_foam_forces(
 
     Args:
         points: (n_points, 3) x^n [m]; velocities: (n_points, 3) v^(n-1/2) [m/s];
-        cells: (n_cells, 8) node ids; reference: (n_points, 3) the undeformed coordinates [m];
+        cells: (n_cells, 8) node ids (int32; another integer type is converted, a copy);
+        reference: (n_points, 3) the undeformed coordinates [m];
         dt: the step dt^(n-1/2) that led to x^n [s].
         density: the foam's initial density [kg/m^3]; volume0: (n_cells,) initial volumes [m^3].
         table: :meth:`batball.materials.foam.FoamTable.arrays` of the (one) foam material.
@@ -267,6 +268,7 @@ def compute_foam_forces(
     if history.shape != (cells.shape[0], N_HISTORY):
         raise ValueError(f"history has shape {history.shape}; expected ({cells.shape[0]}, 14)")
     fb, stiff = hg_type >= 2, hg_type >= 4
+    cells = np.ascontiguousarray(cells, dtype=np.int32)  # one compiled kernel (compute_hex8_forces)
     _foam_forces(
         (points, velocities, cells, reference),
         (float(density), volume0, table),
@@ -295,7 +297,7 @@ def foam_element_forces(
     body of ``model`` (``model.foam``) with the solver's workspace ``work`` (volume0, q1, q2 and
     the output arrays) and hourglass control."""
     compute_foam_forces(
-        points, velocities, model.mesh.cells, model.mesh.points, dt,
+        points, velocities, work.cells, model.mesh.points, dt,
         float(model.densities[0]), work.volume0, model.foam.arrays(), history, hg_state,
         hourglass.type, hourglass.coefficient, work.q1, work.q2,
         work.nodal_forces, work.cell_volume, work.cell_dt, work.energy_increments,

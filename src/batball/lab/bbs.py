@@ -286,7 +286,7 @@ def place_ball(
     np.add.at(mass, body.mesh.cells.ravel(), np.repeat(body.density * volume0 / 8.0, 8))
     bv = setup.bulk_viscosity
     part = BallPart(
-        body.mesh.cells.astype(np.int64),
+        body.mesh.cells.astype(np.int32),  # the element kernels' node ids
         n_bat,
         body.constants[None, :],
         body.density,

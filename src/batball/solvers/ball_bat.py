@@ -266,7 +266,7 @@ class BallState:
         n_terms = constants_terms(part.material_constants)
         n_foam = n if part.foam is not None else 0
         history = pack_history(part.volume0, n_terms=n_terms, dtype=PRECISIONS[precision])
-        return cls(np.zeros(n, dtype=np.int64), history,
+        return cls(np.zeros(n, dtype=np.int32), history,
                    np.zeros((n_slots, n_points, 3)), np.zeros(n), np.zeros(n),
                    np.zeros((n_slots, 3)), np.zeros((n_foam, N_FOAM_HISTORY)),
                    np.zeros((n_foam, 4, 3)))  # fmt: skip

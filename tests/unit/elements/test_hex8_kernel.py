@@ -12,10 +12,11 @@ import platform
 import re
 from dataclasses import dataclass
 
+import numba as nb
 import numpy as np
 import pytest
 
-from batball.elements.hex8 import compute_hex8_forces
+from batball.elements.hex8 import _KERNELS, compute_hex8_forces
 from batball.elements.hex8_block import (
     BLOCK,
     N_ROWS,
@@ -241,6 +242,22 @@ def test_single_precision_kernel_matches_the_reference_to_float32_round_off(hg_t
         assert_close(got[key], want[key], rel=1e-6 / np.log(1.02))
     np.testing.assert_allclose(got["energy"], want["energy"], rtol=1e-4)
     assert got["volume"][7] < 0.0 and got["dt"][7] == 0.0  # the inverted cell, as in double
+
+
+def test_any_integer_ids_reach_the_one_int32_kernel() -> None:
+    # A form compiles once (about 30 s) whatever integer type its callers hold: the solvers keep
+    # int32 ids, the test models here are int64, and the wrapper converts, so both give the same
+    # forces and the compiled kernel has no int64 signature.
+    model = distorted_model(seed=3)
+    assert model["cells"].dtype == np.int64
+    wide = run_kernel(model, 1, qh=0.1, q1=1.5, q2=0.06, n_chunks=2)
+    narrow_model = model | {"cells": model["cells"].astype(np.int32),
+                            "cell_material": model["cell_material"].astype(np.int32)}  # fmt: skip
+    narrow = run_kernel(narrow_model, 1, qh=0.1, q1=1.5, q2=0.06, n_chunks=2)
+    assert np.array_equal(wide["forces"], narrow["forces"])
+    for signature in _KERNELS[1, 1].signatures:
+        (_, _, cells), (cell_material, _, _) = signature[0], signature[1]
+        assert cells.dtype == cell_material.dtype == nb.int32
 
 
 def test_inverted_element_gets_no_forces_step_or_work() -> None:
