@@ -21,11 +21,14 @@
 # type2-mat057-sfa14: the type-2 fit with SFA held at 1.4 (where type 1's ran to), the four
 # default parameters free, from type2-mat057-sfa14-start.toml, to see whether the curve's shape
 # moves the type-2 BBS trend with the ball tests still matched.
+# type2-mat057-plateau: the same with the curve's plateau flattened (0.1-0.4 strain), from
+# type2-mat057-plateau-start.toml: a ball whose dynamic stiffness grows less with speed.
 #
 # Writes benchmarks/calibration/<name>.json and the fitted balls <name>.toml.
 # Usage: benchmarks/calibrate_foam_balls.sh [name ...]
 #   (default: type1-mat057 type2-mat057 type1-mat083 type2-mat083; also type1-mat057-12div,
-#   type2-mat057-12div, type1-mat057-sfa, type2-mat057-sfa, type2-mat057-sfa14)
+#   type2-mat057-12div, type1-mat057-sfa, type2-mat057-sfa, type2-mat057-sfa14,
+#   type2-mat057-plateau)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=benchmarks/calibration
@@ -45,6 +48,7 @@ declare -A ARGS=(
   [type1-mat057-sfa]="--ball $OUT/type1-mat057-12div.toml --model mat057 $FINE $SHAPE"
   [type2-mat057-sfa]="--ball $OUT/type2-mat057-12div.toml --model mat057 $FINE $SHAPE"
   [type2-mat057-sfa14]="--ball $OUT/type2-mat057-sfa14-start.toml --model mat057 $FINE"
+  [type2-mat057-plateau]="--ball $OUT/type2-mat057-plateau-start.toml --model mat057 $FINE"
 )
 names=("$@")
 [ ${#names[@]} -eq 0 ] && names=(type1-mat057 type2-mat057 type1-mat083 type2-mat083)
