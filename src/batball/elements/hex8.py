@@ -71,6 +71,16 @@ HOURGLASS_TYPES = {
 ENERGY_INTERNAL, ENERGY_HOURGLASS, ENERGY_BULK_VISCOSITY = 0, 1, 2
 
 
+def kernel_ids(ids: np.ndarray) -> np.ndarray:
+    """``ids`` (node ids or material rows) as the element kernels take them: contiguous int32.
+
+    32-bit ids halve the index traffic of a cycle, which streams all of them, and one integer
+    type means one compiled kernel per form (about 30 s each) whichever caller it serves. The
+    same array when it already is one, else a copy: callers that step keep theirs converted.
+    """
+    return np.ascontiguousarray(ids, dtype=np.int32)
+
+
 @nb.njit
 def slot_cells(slot: int, n_slots: int, n_cells: int) -> tuple[int, int]:
     """The cells [first, end) of one slot of the element kernel: the blocks of BLOCK cells split
@@ -237,9 +247,9 @@ def compute_hex8_forces(
 
     Args:
         points: (n_points, 3) coordinates x^n [m]; velocities: (n_points, 3) v^(n-1/2) [m/s].
-        cells: (n_cells, 8) node ids (int32; another integer type is converted, a copy);
-            dt: the step dt^(n-1/2) [s] that led to x^n.
-        cell_material: (n_cells,) (int32, as ``cells``) row of ``material_constants``
+        cells: (n_cells, 8) node ids (:func:`kernel_ids`); dt: the step dt^(n-1/2) [s] that
+            led to x^n.
+        cell_material: (n_cells,) (:func:`kernel_ids`) row of ``material_constants``
             (n_materials, 2 N + 2: K, G0, G_inf [Pa], beta_1 [1/s], then (G_i [Pa],
             beta_i [1/s]) for Prony terms i = 2..N; N = 1 is MAT_006's K, G0, G_inf, beta) and
             ``densities`` (n_materials,) [kg/m^3].
@@ -277,13 +287,9 @@ def compute_hex8_forces(
             f"nodal_forces has shape {nodal_forces.shape}; expected (n_slots, n_points, 3) with "
             f"n_slots = {len(energy_increments)}, the rows of energy_increments"
         )
-    # One integer type for the node ids and material rows, so that a kernel form compiles once
-    # (about 30 s each) whichever caller it serves; a no-op for the solvers, which keep int32.
-    cells = np.ascontiguousarray(cells, dtype=np.int32)
-    cell_material = np.ascontiguousarray(cell_material, dtype=np.int32)
     _KERNELS[hg_type, n_terms](
-        (points, velocities, cells),
-        (cell_material, material_constants, densities),
+        (points, velocities, kernel_ids(cells)),
+        (kernel_ids(cell_material), material_constants, densities),
         history,
         (nodal_forces, cell_volume, cell_dt, energy_increments),
         (float(dt), float(hg_coefficient), float(q1), float(q2)),

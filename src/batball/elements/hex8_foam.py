@@ -35,7 +35,7 @@ from typing import Any
 import numba as nb
 import numpy as np
 
-from batball.elements.hex8 import slot_cells
+from batball.elements.hex8 import kernel_ids, slot_cells
 from batball.elements.hex8_geometry import (
     modal_largest_face_area,
     modal_sums,
@@ -254,7 +254,7 @@ def compute_foam_forces(
 
     Args:
         points: (n_points, 3) x^n [m]; velocities: (n_points, 3) v^(n-1/2) [m/s];
-        cells: (n_cells, 8) node ids (int32; another integer type is converted, a copy);
+        cells: (n_cells, 8) node ids (:func:`batball.elements.hex8.kernel_ids`);
         reference: (n_points, 3) the undeformed coordinates [m];
         dt: the step dt^(n-1/2) that led to x^n [s].
         density: the foam's initial density [kg/m^3]; volume0: (n_cells,) initial volumes [m^3].
@@ -268,9 +268,8 @@ def compute_foam_forces(
     if history.shape != (cells.shape[0], N_HISTORY):
         raise ValueError(f"history has shape {history.shape}; expected ({cells.shape[0]}, 14)")
     fb, stiff = hg_type >= 2, hg_type >= 4
-    cells = np.ascontiguousarray(cells, dtype=np.int32)  # one compiled kernel (compute_hex8_forces)
     _foam_forces(
-        (points, velocities, cells, reference),
+        (points, velocities, kernel_ids(cells), reference),
         (float(density), volume0, table),
         (history, hg_state),
         (nodal_forces, cell_volume, cell_dt),

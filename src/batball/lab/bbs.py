@@ -34,6 +34,7 @@ import numpy as np
 from batball.contact.columns import ColumnContact
 from batball.contact.segments import SegmentContact
 from batball.contact.shell_contact import nodal_areas
+from batball.elements.hex8 import kernel_ids
 from batball.elements.hex8_block import check_precision
 from batball.elements.shell_bt import HOURGLASS_RATIO, ShellForceState, initial_force_state
 from batball.elements.shell_bt_section import HG_THICKNESS, LayeredSection, layered_section
@@ -286,7 +287,7 @@ def place_ball(
     np.add.at(mass, body.mesh.cells.ravel(), np.repeat(body.density * volume0 / 8.0, 8))
     bv = setup.bulk_viscosity
     part = BallPart(
-        body.mesh.cells.astype(np.int32),  # the element kernels' node ids
+        kernel_ids(body.mesh.cells),
         n_bat,
         body.constants[None, :],
         body.density,

@@ -35,7 +35,7 @@ import numpy as np
 
 from batball.contact.columns import ColumnContact
 from batball.contact.segments import SegmentContact
-from batball.elements.hex8 import compute_hex8_forces
+from batball.elements.hex8 import compute_hex8_forces, kernel_ids
 from batball.elements.hex8_block import PRECISIONS, check_precision, constants_terms, pack_history
 from batball.elements.hex8_foam import N_FOAM_HISTORY, compute_foam_forces
 from batball.elements.shell_bt import (
@@ -266,7 +266,7 @@ class BallState:
         n_terms = constants_terms(part.material_constants)
         n_foam = n if part.foam is not None else 0
         history = pack_history(part.volume0, n_terms=n_terms, dtype=PRECISIONS[precision])
-        return cls(np.zeros(n, dtype=np.int32), history,
+        return cls(kernel_ids(np.zeros(n, dtype=int)), history,
                    np.zeros((n_slots, n_points, 3)), np.zeros(n), np.zeros(n),
                    np.zeros((n_slots, 3)), np.zeros((n_foam, N_FOAM_HISTORY)),
                    np.zeros((n_foam, 4, 3)))  # fmt: skip

@@ -21,7 +21,7 @@ import numba as nb
 import numpy as np
 
 from batball.contact.rigid import N_TARGET_PARAMS, RigidCylinder, RigidPlane
-from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces
+from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces, kernel_ids
 from batball.elements.hex8_block import PRECISIONS, check_precision, constants_terms, pack_history
 from batball.elements.hex8_foam import N_FOAM_HISTORY, foam_element_forces
 from batball.errors import SimulationError, SpecError
@@ -271,9 +271,8 @@ class _Workspace:
                 "every element with a positive volume",
             )
         cell_mass = model.densities[model.cell_material] * self.volume0
-        # 32-bit ids halve the index traffic of the element kernel (a cycle streams all of it)
-        self.cells = np.ascontiguousarray(mesh.cells, dtype=np.int32)
-        self.cell_material = np.ascontiguousarray(model.cell_material, dtype=np.int32)
+        self.cells = kernel_ids(mesh.cells)
+        self.cell_material = kernel_ids(model.cell_material)
         self.mass = lumped_masses(mesh.cells, cell_mass, mesh.n_points)
         self.cell_volume = np.zeros(mesh.n_cells)
         self.cell_dt = np.zeros(mesh.n_cells)
