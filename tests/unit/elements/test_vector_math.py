@@ -1,9 +1,23 @@
-"""The vectorisable ln and cube root against NumPy (the C library) over the whole double range."""
+"""The vectorisable ln and cube root over the whole double range, against the exact values.
+
+The reference is the operation in x86 extended precision (64-bit significand), polished by one
+Newton step, then compared in units of the double result's last place: a correctly rounded
+double is within 0.5 ulp of it. NumPy's own float64 ``np.log`` and ``np.cbrt`` are not a
+reference: which implementation runs depends on the CPU (SVML on AVX-512 hosts, the C library
+elsewhere), and glibc's double ``cbrt`` is itself up to about 3 ulp from the exact cube root, so
+a comparison with it measures the host, not this code.
+"""
 
 from __future__ import annotations
 
+import os
+import pathlib
+import subprocess
+import sys
+
 import numba as nb
 import numpy as np
+import pytest
 
 from batball.elements.vector_math import cbrt, log
 from batball.numerics import FASTMATH
@@ -40,19 +54,57 @@ def samples() -> np.ndarray:
     )
 
 
-def ulps(actual: np.ndarray, expected: np.ndarray) -> np.ndarray:
-    return np.abs(actual - expected) / np.spacing(np.abs(expected))
+EXTENDED = np.finfo(np.longdouble).nmant >= 63
+needs_extended = pytest.mark.skipif(
+    not EXTENDED, reason="the exact reference needs a long double of at least 64-bit significand"
+)
 
 
-def test_log_is_within_two_ulp_of_the_c_library() -> None:
+def exact_cbrt(x: np.ndarray) -> np.ndarray:
+    """Cube roots to about 2^-63 relative: extended precision plus one Newton step."""
+    xl = x.astype(np.longdouble)
+    y = np.cbrt(xl)
+    return y - (y**3 - xl) / (3 * y**2)
+
+
+def exact_log(x: np.ndarray) -> np.ndarray:
+    """Natural logarithms to about 2^-63 relative: extended precision plus one Newton step."""
+    xl = x.astype(np.longdouble)
+    y = np.log(xl)
+    return y - (np.exp(y) - xl) / np.exp(y)
+
+
+def ulps(actual: np.ndarray, exact: np.ndarray) -> np.ndarray:
+    """|actual - exact| in units of the last place of the double nearest ``exact``."""
+    spacing = np.spacing(np.abs(exact.astype(np.float64)))
+    return (np.abs(actual.astype(np.longdouble) - exact) / spacing).astype(np.float64)
+
+
+@needs_extended
+def test_log_is_within_two_ulp_of_the_exact_value() -> None:
+    # fdlibm's e_log.c is within 1 ulp; fast math may contract its sums into FMAs, which the
+    # module states as 2 ulp (measured: 0.80 on AVX2 and AVX-512 targets)
     x = samples()
-    assert ulps(log_all(x), np.log(x)).max() <= 2.0  # fast math may contract the sum into FMAs
+    assert ulps(log_all(x), exact_log(x)).max() <= 2.0
 
 
-def test_cbrt_is_within_one_ulp_of_the_c_library_for_both_signs() -> None:
+@needs_extended
+def test_cbrt_is_within_one_ulp_of_the_exact_value_for_both_signs() -> None:
+    # four Newton steps on m^(-1/3) leave about 2^-60 relative error, and the last polishing step
+    # and the exact scaling by 2^q add at most the rounding of y - (y^3 - m) r^2 / 3: under
+    # one ulp (measured: 0.72 on AVX2 and AVX-512 targets)
     x = samples()
     x = np.concatenate([x, -x])
-    assert ulps(cbrt_all(x), np.cbrt(x)).max() <= 1.0
+    assert ulps(cbrt_all(x), exact_cbrt(x)).max() <= 1.0
+
+
+@needs_extended
+def test_the_exact_reference_is_exact() -> None:
+    """The references themselves: perfect cubes and powers of e, to within 1e-3 ulp."""
+    k = np.arange(1.0, 2.0e5, 7.0)
+    assert ulps(k, exact_cbrt(k**3)).max() <= 1e-3
+    t = np.array([0.5, 1.0, 2.0])
+    assert ulps(t, exact_log(np.exp(t.astype(np.longdouble)))).max() <= 1e-3
 
 
 def test_special_values_follow_the_c_library() -> None:
@@ -60,3 +112,30 @@ def test_special_values_follow_the_c_library() -> None:
     with np.errstate(divide="ignore", invalid="ignore"):
         np.testing.assert_array_equal(log_all(x), np.log(x))
     np.testing.assert_array_equal(cbrt_all(x), np.cbrt(x))
+
+
+#: Numba's target for an AVX2 machine without AVX-512 (Haswell's features).
+AVX2_TARGET = {
+    "NUMBA_CPU_NAME": "haswell",
+    "NUMBA_CPU_FEATURES": "+64bit,+avx,+avx2,+bmi,+bmi2,+cmov,+cx16,+f16c,+fma,+lzcnt,+movbe,"
+    "+popcnt,+sse,+sse2,+sse3,+sse4.1,+sse4.2,+ssse3,+xsave",
+}
+
+
+def test_log_and_cbrt_give_the_same_bits_on_an_avx2_target(tmp_path) -> None:
+    """The helpers are straight-line arithmetic without reassociation, so the AVX2 code path
+    (compiled for Haswell in a child process, whatever this host is) gives the same bits."""
+    x = np.concatenate([samples(), -samples()])
+    np.save(tmp_path / "x.npy", x)
+    script = (
+        "import sys, numpy as np\n"
+        f"sys.path.insert(0, {str(pathlib.Path(__file__).parent)!r})\n"
+        "from test_vector_math import cbrt_all, log_all\n"
+        f"x = np.load({str(tmp_path / 'x.npy')!r})\n"
+        f"np.save({str(tmp_path / 'y.npy')!r}, np.stack([cbrt_all(x), log_all(np.abs(x))]))\n"
+    )
+    env = {**os.environ, **AVX2_TARGET}
+    subprocess.run([sys.executable, "-c", script], env=env, check=True)
+    avx2 = np.load(tmp_path / "y.npy")
+    np.testing.assert_array_equal(avx2[0], cbrt_all(x))
+    np.testing.assert_array_equal(avx2[1], log_all(np.abs(x)))
