@@ -25,7 +25,7 @@ from batball.elements.shell_bt import initial_force_state
 from batball.elements.shell_corotational import CorotationalShellForces
 from batball.elements.shell_stiffness import shell_section
 from batball.lab.bbs import IN, BbsSetup, bat_part
-from batball.lab.props import bat_laminates
+from batball.models.bat import bat_laminates
 from batball.solvers.ball_bat import ShellForces
 from batball.specs import load_bat_spec
 

@@ -94,12 +94,12 @@ def allowed_text(dimension: str) -> str:
     return f"{article} {noun} with its unit, e.g. '{example}'"
 
 
-def parse_quantity(value: str | float | int, dimension: str, *, field: str) -> float:
+def parse_quantity(value: str | float | int | Any, dimension: str, *, field: str) -> float:
     """Parse a value with its unit and return it in SI.
 
     Args:
-        value: ``"95 mph"``, ``"22500 psi"``, ``"3.7e-5 lbf*s**2/in**4"``; a bare number (str or
-            float) only when ``dimension`` is ``"dimensionless"``.
+        value: ``"95 mph"``, ``"22500 psi"``, ``"3.7e-5 lbf*s**2/in**4"`` or a pint quantity; a
+            bare number (str or float) only when ``dimension`` is ``"dimensionless"``.
         dimension: a key of :data:`DIMENSIONS` (``"length"``, ``"velocity"``, ``"pressure"`` ...).
         field: dotted path of the input field, for the error message.
 
@@ -121,8 +121,17 @@ def parse_quantity(value: str | float | int, dimension: str, *, field: str) -> f
     return magnitude * factor
 
 
-def _split(value: str | float | int, dimension: str, *, field: str) -> tuple[float, str]:
-    """Split ``value`` into a finite magnitude and a unit string ("" for a bare number)."""
+def _split(value: str | float | int | Any, dimension: str, *, field: str) -> tuple[float, str]:
+    """Split ``value`` into a finite magnitude and a unit string ("" for a bare number); a pint
+    quantity (of any registry) gives its magnitude and its unit's name."""
+    if hasattr(value, "magnitude") and hasattr(value, "units") and not isinstance(value, str):
+        try:
+            magnitude, unit = float(value.magnitude), str(value.units)
+        except (TypeError, ValueError):
+            raise SpecError(field, value, allowed_text(dimension)) from None
+        if not math.isfinite(magnitude) or (unit == "dimensionless" and dimension != unit):
+            raise SpecError(field, value, allowed_text(dimension))
+        return magnitude, "" if unit == "dimensionless" else unit
     if isinstance(value, bool) or not isinstance(value, str | float | int):
         raise SpecError(field, value, allowed_text(dimension))
     if isinstance(value, str):

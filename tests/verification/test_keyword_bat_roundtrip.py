@@ -19,24 +19,6 @@ import numpy as np
 import pytest
 
 from batball.errors import SpecError
-from batball.io.keyword_bat import (
-    barrel_deck,
-    barrel_platens,
-    barrel_support_nodes,
-    bbs_deck,
-    modal_deck,
-)
-from batball.io.keyword_bat_barrel import run_barrel_deck
-from batball.io.keyword_bat_model import (
-    ball_of,
-    pivot_band,
-    read_bat_deck,
-    rigid_shells,
-    run_modal_deck,
-    supports,
-)
-from batball.io.keyword_cards import unit_system
-from batball.io.keyword_model import read_deck
 from batball.lab.barrel import (
     BarrelTestOptions,
     build_barrel_model,
@@ -44,8 +26,27 @@ from batball.lab.barrel import (
     run_barrel_compression,
 )
 from batball.lab.bbs import BbsSetup, build_bbs_model
-from batball.lab.modal import bat_modes, bat_section
+from batball.lab.modal import bat_modes
+from batball.lsdyna.bat import (
+    barrel_deck,
+    barrel_platens,
+    barrel_support_nodes,
+    bbs_deck,
+    modal_deck,
+)
+from batball.lsdyna.bat_barrel import run_barrel_deck
+from batball.lsdyna.bat_model import (
+    ball_of,
+    pivot_band,
+    read_bat_deck,
+    rigid_shells,
+    run_modal_deck,
+    supports,
+)
+from batball.lsdyna.cards import unit_system
+from batball.lsdyna.model import read_deck
 from batball.mesh.bat import make_bat_mesh
+from batball.models.bat import bat_section
 from batball.specs import load_ball_spec
 from batball.specs.bat import load_bat_spec
 

@@ -329,7 +329,7 @@ __all__ = [
 def write_dma_csv(path: str | Path, data: DmaData, *, unit: str = "psi") -> None:
     """Write ``data`` as ``frequency_hz,storage_<unit>,loss_<unit>`` (readable by
     :func:`load_dma_csv` with ``modulus="shear"``), atomically."""
-    from batball.io.store import atomic_path
+    from batball.results.store import atomic_path
 
     factor = PRESSURE_UNITS[unit]
     with atomic_path(Path(path)) as tmp, tmp.open("w", newline="", encoding="utf-8") as handle:

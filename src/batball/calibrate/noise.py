@@ -118,7 +118,7 @@ def write_noisy_data(
     is written atomically. Returns the written paths by name (``cor``, ``ccor``, ``dma``,
     ``bbs``, ``noise``: a TOML of the seed and levels).
     """
-    from batball.io.store import atomic_path, write_text_atomic
+    from batball.results.store import atomic_path, write_text_atomic
 
     if not source_dir.is_dir():
         raise SpecError("noise.source", str(source_dir), "a folder of synthetic route data")

@@ -108,7 +108,7 @@ def measure_synthetic(
     DMA (:mod:`batball.calibrate.foam_dma`; read with ``--dma-modulus tensile``). ``bbs_runs``
     (speed mph -> BBS mph, the truth's own, on the bat mesh ``bbs_mesh`` says) go into
     ``bbs.toml``. Returns the paths by name; each file is written atomically."""
-    from batball.io.store import write_text_atomic
+    from batball.results.store import write_text_atomic
 
     out_dir.mkdir(parents=True, exist_ok=True)
     cor = _impact_targets(

@@ -152,15 +152,15 @@ def _speeds_mph(args: argparse.Namespace) -> list[float]:
 
 def _bbs_setup(args: argparse.Namespace) -> Any:
     """The BBS setup of the options (the speed is set per run)."""
-    from batball.cli import bat_mesh_options
     from batball.lab.bbs import BbsSetup
+    from batball.lab.registry import AXIAL_SIZE, CIRCUMFERENTIAL, PIVOT, parse_options
     from batball.units import parse_quantity
 
     if not 2 <= args.divisions <= 40:
         raise SpecError("divisions", args.divisions, "an integer 2..40")
     if not 0.0 < args.time_step_scale <= 1.0:
         raise SpecError("time-step-scale", args.time_step_scale, "0 < scale <= 1")
-    mesh = bat_mesh_options(args)
+    mesh = parse_options((CIRCUMFERENTIAL, AXIAL_SIZE, PIVOT), args)
     return BbsSetup(
         time_step_scale=args.time_step_scale,
         ball_divisions=args.divisions,

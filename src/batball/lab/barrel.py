@@ -51,7 +51,6 @@ from batball.elements.shell_stiffness import (
     membrane_bending_matrix,
 )
 from batball.errors import SpecError
-from batball.lab.modal import bat_section
 from batball.mesh.bat import (
     DEFAULT_AXIAL_SIZE,
     DEFAULT_CIRCUMFERENTIAL,
@@ -59,6 +58,7 @@ from batball.mesh.bat import (
     outer_rings,
 )
 from batball.mesh.shell import ShellMesh
+from batball.models.bat import bat_section
 from batball.solvers.static_contact import (
     CondensedContact,
     CoulombFriction,

@@ -90,8 +90,8 @@ from batball.lab.bbs import (
 )
 from batball.lab.fit_store import FitRelaxation, capture_fit, fit_inputs, obtain_fit, restore_fit
 from batball.lab.impact import ContactOptions
-from batball.lab.props import bat_laminates
 from batball.mesh.bat import outer_rings
+from batball.models.bat import bat_laminates
 from batball.solvers.ball_bat import RELAX_FACTOR, BatPart, ShellForces, relax_fit
 from batball.specs.bat import BatSpec
 from batball.units import IN

@@ -21,17 +21,6 @@ from typing import Any
 
 import numpy as np
 
-from batball import __version__
-from batball.io.store import (
-    atomic_path,
-    load_cached_summary,
-    load_stored_arrays,
-    run_folder,
-    write_arrays_atomic,
-    write_csv_atomic,
-    write_json_atomic,
-    write_summary,
-)
 from batball.lab.barrel import (
     BarrelModel,
     BarrelResult,
@@ -56,8 +45,19 @@ from batball.lab.barrel_explicit import (
     run_explicit_compression,
 )
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
+from batball.results.store import (
+    atomic_path,
+    load_cached_summary,
+    load_stored_arrays,
+    run_folder,
+    write_arrays_atomic,
+    write_csv_atomic,
+    write_json_atomic,
+    write_summary,
+)
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
 from batball.units import IN, LBF, PSI
+from batball.version import __version__
 
 PRESTRESS_FILE = "prestress.npz"
 
@@ -217,12 +217,9 @@ def write_curve_of(folder: Path, curve: CompressionCurve, at_fit: float,
 
 def plot_curve(path: Path, columns: dict[str, np.ndarray], options: BarrelTestOptions) -> None:
     """Force against platen travel with the seed's Table 2 points (F(0.02), F(0.07))."""
-    import matplotlib
+    from batball.results.plots import new_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = new_figure(figsize=(6, 4))
     ax.plot(columns["travel_in"], columns["force_lbf"], "o-", label="batball")
     travels = [options.preload_travel / IN, (options.preload_travel + options.final_travel) / IN]
     table2 = seed_table2()
@@ -238,20 +235,17 @@ def plot_curve(path: Path, columns: dict[str, np.ndarray], options: BarrelTestOp
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
 
 
 def plot_prestress(path: Path, model: BarrelModel, prestress: Prestress) -> None:
     """Von Mises of the mean (membrane) stress, psi, on the unrolled barrel and insert."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
+
+    from batball.results.plots import new_figure
 
     stress = von_mises(membrane_stress(model, prestress.u)) / PSI
     assert model.spec.insert is not None
-    fig, axes = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    fig, axes = new_figure(2, 1, figsize=(8, 6), sharex=True)
     outer = np.setdiff1d(np.arange(model.mesh.n_cells), model.mesh.cell_sets["insert"])
     for ax, cells, title in ((axes[0], outer, "outer wall"),
                              (axes[1], model.mesh.cell_sets["insert"], "insert")):  # fmt: skip
@@ -271,7 +265,6 @@ def plot_prestress(path: Path, model: BarrelModel, prestress: Prestress) -> None
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
 
 
 def run_barrel_test(

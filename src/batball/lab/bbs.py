@@ -48,10 +48,10 @@ from batball.elements.shell_stiffness import ShellSection, shell_section
 from batball.errors import SimulationError, SpecError
 from batball.lab.fit_store import FitRelaxation, fit_inputs, obtain_fit
 from batball.lab.impact import BallBody, ContactOptions, ball_body, estimate_first_step
-from batball.lab.props import bat_areal_mass, bat_laminates
 from batball.mesh import boundary_faces, hex_volumes
 from batball.mesh.bat import make_bat_mesh, outer_rings
 from batball.mesh.shell import ShellMesh, quad_areas
+from batball.models.bat import bat_areal_mass, bat_laminates
 from batball.solvers.ball_bat import (
     RELAX_FACTOR,
     BallPart,

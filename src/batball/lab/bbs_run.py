@@ -15,18 +15,18 @@ from typing import Any
 
 import numpy as np
 
-from batball import __version__
-from batball.io.store import (
+from batball.lab.bbs import BbsResult, BbsSetup, run_bbs
+from batball.results.plots import plot_force_time
+from batball.results.store import (
     atomic_path,
     load_cached_summary,
     run_folder,
     write_csv_atomic,
     write_summary,
 )
-from batball.lab.bbs import BbsResult, BbsSetup, run_bbs
-from batball.report.plots import plot_force_time
 from batball.specs import BallSpec, BatSpec, ball_spec_to_toml_dict, bat_spec_to_toml_dict
 from batball.units import IN, LBF, MPH, OZ_IN2, PSI
+from batball.version import __version__
 
 
 def bbs_inputs(bat: BatSpec, ball: BallSpec, setup: BbsSetup) -> dict[str, Any]:
@@ -117,11 +117,9 @@ def write_history(folder: Path, result: BbsResult) -> None:
 def plot_barrel_deformation(path: Path, result: BbsResult) -> None:
     """Radial deflection of the outer wall at the peak contact force (in), on the unrolled
     barrel around the impact point; the rigid rotation about the pivot removed."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
+
+    from batball.results.plots import new_figure
 
     mesh = result.model.bat_mesh
     u = result.run.peak_displacement[: mesh.n_points].copy()
@@ -143,7 +141,7 @@ def plot_barrel_deformation(path: Path, result: BbsResult) -> None:
     first = phi[:, :1]
     phi = first + (phi - first + 180.0) % 360.0 - 180.0  # corners contiguous across +-180 deg
     value = radial[mesh.cells[cells]].mean(axis=1)
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = new_figure(figsize=(7, 4))
     collection = PolyCollection(
         list(np.stack([corners[..., 0] / IN, phi], axis=-1)), array=value / IN, cmap="jet"
     )
@@ -156,7 +154,6 @@ def plot_barrel_deformation(path: Path, result: BbsResult) -> None:
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
 
 
 def run_bbs_test(

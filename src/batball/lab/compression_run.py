@@ -14,18 +14,18 @@ from typing import Any
 
 import numpy as np
 
-from batball.io.fields import write_time_series
-from batball.io.store import (
+from batball.lab.compression import CompressionResult, CompressionSetup, run_compression
+from batball.lab.impact_run import ball_test_inputs
+from batball.mesh import mesh_quality
+from batball.results.fields import write_time_series
+from batball.results.plots import plot_lines
+from batball.results.store import (
     run_folder,
     run_or_reuse,
     write_csv_atomic,
     write_summary,
     write_text_atomic,
 )
-from batball.lab.compression import CompressionResult, CompressionSetup, run_compression
-from batball.lab.impact_run import ball_test_inputs
-from batball.mesh import mesh_quality
-from batball.report.plots import plot_lines
 from batball.solvers.explicit import ENERGY_COLUMNS
 from batball.specs import BallSpec, ball_spec_to_toml_dict
 from batball.units import IN, LBF, OZ

@@ -290,10 +290,10 @@ class HoopTargets:
         return self.hoop_hz
 
     def achieved(self, spec: BatSpec, mesh: MeshOptions) -> tuple[float, ...]:
-        from batball import __version__
-        from batball.io.store import load_cached_summary, run_folder, write_summary
         from batball.lab.modal import bat_modes
+        from batball.results.store import load_cached_summary, run_folder, write_summary
         from batball.specs.bat import bat_spec_to_toml_dict
+        from batball.version import __version__
 
         folder = None
         if self.runs_dir is not None:
@@ -452,7 +452,7 @@ def write_fitted_bat(path: Path, fit: BatFit) -> None:
     """Write the fitted bat as a bat-spec TOML file (atomically)."""
     import tomli_w
 
-    from batball.io.store import write_text_atomic
+    from batball.results.store import write_text_atomic
     from batball.specs.bat import bat_spec_to_toml_dict
 
     header = "# Written by batball fit-bat: " + ", ".join(str(p) for p in fit.parameters) + "\n"

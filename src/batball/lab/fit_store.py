@@ -29,12 +29,11 @@ from pathlib import Path
 
 import numpy as np
 
-from batball import __version__
 from batball.contact.columns import ColumnContact
 from batball.contact.segments import SegmentContact
 from batball.elements.shell_bt import ShellForceState
 from batball.elements.shell_corotational import CorotationalState
-from batball.io.store import (
+from batball.results.store import (
     arrays_digest,
     load_stored_arrays,
     run_folder,
@@ -42,6 +41,7 @@ from batball.io.store import (
     write_summary,
 )
 from batball.solvers.ball_bat import BatPart
+from batball.version import __version__
 
 FIT_FILE = "fit.npz"
 Pair = SegmentContact | ColumnContact

@@ -14,21 +14,21 @@ from typing import Any
 
 import numpy as np
 
-from batball import __version__
-from batball.io.fields import write_time_series
-from batball.io.store import (
+from batball.lab.impact import ImpactResult, ImpactSetup, run_impact
+from batball.mesh import mesh_quality
+from batball.results.fields import write_time_series
+from batball.results.plots import plot_force_time
+from batball.results.store import (
     run_folder,
     run_or_reuse,
     write_csv_atomic,
     write_summary,
     write_text_atomic,
 )
-from batball.lab.impact import ImpactResult, ImpactSetup, run_impact
-from batball.mesh import mesh_quality
-from batball.report.plots import plot_force_time
 from batball.solvers.explicit import BALANCE, ENERGY_COLUMNS
 from batball.specs import BallSpec, ball_spec_to_toml_dict
 from batball.units import IN, LBF, MPH, OZ
+from batball.version import __version__
 
 LBF_PER_IN = LBF / IN  # N/m
 

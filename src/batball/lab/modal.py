@@ -45,12 +45,11 @@ from batball.elements.shell_stiffness import (
     ShellSection,
     assemble_shell_mass,
     assemble_shell_stiffness,
-    shell_section,
 )
 from batball.errors import SpecError
-from batball.lab.props import bat_areal_mass, bat_laminates
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL, make_bat_mesh
 from batball.mesh.shell import ShellMesh
+from batball.models.bat import bat_section
 from batball.solvers.modal import N_RIGID_BODY_MODES, ModalResult, free_free_modes
 from batball.solvers.static_contact import penalty_system
 from batball.specs.bat import BatSpec
@@ -92,12 +91,6 @@ class BatModes:
         return chosen[:count]
 
 
-def bat_section(spec: BatSpec, mesh: ShellMesh) -> ShellSection:
-    """Per-cell section of a bat mesh: each part's (and the insert's) laminate plus lumped mass."""
-    laminates, cell_laminate = bat_laminates(spec, mesh)
-    structural = np.array([lam.areal_mass for lam in laminates])[cell_laminate]
-    extra = bat_areal_mass(spec, mesh) - structural
-    return shell_section(laminates, cell_laminate, extra_areal_mass=extra)
 
 
 def skew(vectors: np.ndarray) -> np.ndarray:
@@ -261,7 +254,7 @@ def shell_modes(
 ) -> BatModes:
     """Free-free modes of a ring-numbered bat mesh with its section, labelled:
     :func:`bat_modes` once the mesh and section exist (also the route of a keyword deck read
-    by :mod:`batball.io.keyword_bat_model`).
+    by :mod:`batball.lsdyna.bat_model`).
 
     Args:
         mesh: the bat's shells, numbered as :func:`~batball.mesh.bat.make_bat_mesh` numbers them

@@ -13,12 +13,12 @@ from typing import Any
 
 import numpy as np
 
-from batball import __version__
-from batball.io.store import atomic_path, run_folder, run_or_reuse, write_summary
 from batball.lab.modal import BatModes, bat_modes
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
+from batball.results.store import atomic_path, run_folder, run_or_reuse, write_summary
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
 from batball.units import IN
+from batball.version import __version__
 
 
 def seed_table3() -> dict[str, dict[str, list[float]]]:
@@ -75,17 +75,14 @@ def write_vtu(path: Path, modes: BatModes) -> None:
 
 def plot_modes(path: Path, modes: BatModes) -> None:
     """The four picked shapes: deformed outer wall seen from the side (x-y), with the frequency."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from batball.results.plots import new_figure
 
     picked = [("bending", i) for i in modes.first("bending")] + [
         ("hoop", i) for i in modes.first("hoop")
     ]
     n_outer = modes.mesh.point_sets["outer"].size
     points = modes.mesh.points[:n_outer]
-    fig, axes = plt.subplots(len(picked), 1, figsize=(9, 2.2 * len(picked)), squeeze=False)
+    fig, axes = new_figure(len(picked), 1, figsize=(9, 2.2 * len(picked)), squeeze=False)
     for ax, (label, index) in zip(axes[:, 0], picked, strict=True):
         u = modes.shapes[:n_outer, :3, index]
         deformed = points + 0.1 * u / np.abs(u).max()  # 0.1 m peak displacement
@@ -97,7 +94,6 @@ def plot_modes(path: Path, modes: BatModes) -> None:
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
 
 
 def run_modal_test(

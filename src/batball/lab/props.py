@@ -21,9 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from batball.materials.laminate import Laminate
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL, make_bat_mesh
-from batball.mesh.shell import ShellMesh, quad_areas
+from batball.mesh.shell import ShellMesh
+from batball.models.bat import bat_areal_mass
 from batball.specs.bat import BatSpec
 from batball.units import IN
 
@@ -99,40 +99,8 @@ def shell_mass_properties(
     return MassProperties(mass, float(centre[0]), moi_pivot, moi_cm, pivot)
 
 
-def bat_laminates(spec: BatSpec, mesh: ShellMesh) -> tuple[list[Laminate], np.ndarray]:
-    """Each part's (and the insert's) laminate and the laminate of each quad of a bat mesh:
-    (laminates, cell_laminate (n_cells,) indices into them)."""
-    layups = [part.layup for part in spec.parts]
-    cell_laminate = np.full(mesh.n_cells, -1, dtype=np.int64)
-    for k, part in enumerate(spec.parts):
-        cell_laminate[mesh.cell_sets[part.name]] = k
-    if spec.insert is not None:
-        layups.append(spec.insert.layup)
-        cell_laminate[mesh.cell_sets["insert"]] = len(layups) - 1
-    return [spec.laminate(layup) for layup in layups], cell_laminate
 
 
-def bat_areal_mass(spec: BatSpec, mesh: ShellMesh) -> np.ndarray:
-    """Areal mass of each quad of a bat mesh: layup sum(rho_k t_k) + lumped mass / part area.
-
-    Args:
-        spec: the bat the mesh was made from.
-        mesh: its mesh (:func:`batball.mesh.bat.make_bat_mesh`), one cell set per part.
-
-    Returns:
-        (n_cells,) kg/m^2.
-    """
-    areal = np.full(mesh.n_cells, np.nan)
-    areas = quad_areas(mesh.points, mesh.cells)
-    for part in spec.parts:
-        cells = mesh.cell_sets[part.name]
-        spread = part.lumped_mass / areas[cells].sum()
-        areal[cells] = spec.laminate(part.layup).areal_mass + spread
-    if spec.insert is not None:
-        areal[mesh.cell_sets["insert"]] = spec.laminate(spec.insert.layup).areal_mass
-    if np.isnan(areal).any():
-        raise ValueError("the mesh has cells in no part of the bat")
-    return areal
 
 
 def bat_mass_properties(

@@ -9,13 +9,13 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from batball import __version__
-from batball.io.store import run_folder, run_or_reuse, write_summary, write_text_atomic
 from batball.lab.props import DEFAULT_PIVOT, MassProperties, bat_mass_properties
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.mesh.shell import ShellMesh, shell_quality
+from batball.results.store import run_folder, run_or_reuse, write_summary, write_text_atomic
 from batball.specs.bat import BatSpec, bat_spec_to_toml_dict
 from batball.units import IN, OZ, OZ_IN2
+from batball.version import __version__
 
 
 def props_inputs(
@@ -65,7 +65,7 @@ def run_props_test(
     """Compute (or reuse) a bat's mass properties; returns the summary and the run folder."""
     import tomli_w
 
-    from batball.report.bat_figures import plot_bat_mesh
+    from batball.results.bat_figures import plot_bat_mesh
 
     inputs = props_inputs(spec, circumferential=circumferential, axial_size=axial_size,
                           pivot=pivot)  # fmt: skip

@@ -23,13 +23,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from batball.io.store import load_cached_summary, write_json_atomic, write_text_atomic
+from batball.report.runs import ReportFigure, TestRun
 from batball.report.seed_comparison import (
     BALL_CASES,
     CALIBRATED_BALLS,
     ComparisonTable,
     comparison_tables,
 )
+from batball.results.store import load_cached_summary, write_json_atomic, write_text_atomic
 from batball.specs import BallSpec, BatSpec, load_ball_spec, load_bat_spec, load_seed_tables
 from batball.units import IN, MPH, PSI
 
@@ -94,29 +95,6 @@ class ReproduceOptions:
     command: str = "batball reproduce"
     calibrate: bool = True
     workers: int | None = None
-
-
-@dataclass(frozen=True)
-class ReportFigure:
-    """A PNG to show: its file, its name under ``out_dir/figures``, caption and page section."""
-
-    source: Path
-    name: str
-    caption: str
-    section: str
-
-
-@dataclass(frozen=True)
-class TestRun:
-    """One run of a test: its summary and folder, whether it was reused, and what it measured."""
-
-    label: str
-    summary: dict[str, Any]
-    folder: Path
-    reused: bool
-    seconds: float  # wall time in this invocation (near 0 when reused)
-    values: dict[str, float]
-    figures: tuple[ReportFigure, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -14,11 +14,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from batball.io.store import atomic_path
+from batball.results.store import atomic_path
 from batball.units import LBF
 
 if TYPE_CHECKING:
-    from batball.report.reproduce import ReportFigure, TestRun
+    from batball.report.runs import ReportFigure, TestRun
 
 ENERGIES = ("kinetic", "internal", "hourglass", "contact", "balance_error")
 SPEED_COLOURS = {95: "tab:blue", 110: "tab:red"}
@@ -37,28 +37,21 @@ def _speed(run: TestRun) -> int:
 
 
 def _save(fig: Any, path: Path) -> None:
-    import matplotlib.pyplot as plt
-
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png")
-    plt.close(fig)
 
 
 def plot_force_time_cases(figures_dir: Path, runs: Sequence[TestRun]) -> tuple[ReportFigure, ...]:
     """One PNG per ball: batball's force-time curves at each speed, the seed's peaks as lines."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from batball.report.reproduce import ReportFigure
+    from batball.report.runs import ReportFigure
+    from batball.results.plots import new_figure
     from batball.specs import load_seed_tables
 
     seed = load_seed_tables()
     figures = []
     for ball in sorted({str(r.summary["ball"]) for r in runs}):
-        fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=110)
+        fig, ax = new_figure(figsize=(6.4, 4.0), dpi=110)
         for run in (r for r in runs if r.summary["ball"] == ball):
             mph, history = _speed(run), read_history(run.folder)
             colour = SPEED_COLOURS.get(mph, "k")
@@ -105,16 +98,12 @@ def plot_force_time_cases(figures_dir: Path, runs: Sequence[TestRun]) -> tuple[R
 
 def plot_energy_histories(figures_dir: Path, runs: Sequence[TestRun]) -> ReportFigure:
     """One PNG with a panel per CCOR run: the energies (J) against time (ms)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from batball.report.reproduce import ReportFigure
+    from batball.report.runs import ReportFigure
+    from batball.results.plots import new_figure
 
     n_columns = 2
     n_rows = max(1, -(-len(runs) // n_columns))
-    fig, axes = plt.subplots(n_rows, n_columns, figsize=(9.0, 3.0 * n_rows), dpi=100, squeeze=False)
+    fig, axes = new_figure(n_rows, n_columns, figsize=(9.0, 3.0 * n_rows), dpi=100, squeeze=False)
     for ax, run in zip(axes.flat, runs, strict=False):
         history = read_history(run.folder)
         for energy in ENERGIES:

@@ -28,8 +28,8 @@ from batball.elements.shell_corotational import (
     distinct_cells,
 )
 from batball.elements.shell_stiffness import assemble_shell_stiffness, shell_section
-from batball.lab.props import bat_laminates
 from batball.mesh.bat import make_bat_mesh
+from batball.models.bat import bat_laminates
 from batball.specs import load_bat_spec
 
 IN = 0.0254

@@ -10,8 +10,9 @@ import pytest
 
 from batball.cli import main
 from batball.elements.shell_stiffness import assemble_shell_stiffness
-from batball.lab.modal import bat_modes, bat_section, insert_tie
+from batball.lab.modal import bat_modes, insert_tie
 from batball.mesh.bat import make_bat_mesh
+from batball.models.bat import bat_section
 from batball.specs import load_bat_spec
 
 COARSE = ["--circumferential", "16", "--axial-size", "0.5 in"]

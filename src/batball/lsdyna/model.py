@@ -12,8 +12,8 @@ A rigid shell part becomes batball's analytic target: flat (every facet normal t
 gives a :class:`~batball.contact.rigid.RigidCylinder` (a least-squares circle through the nodes
 seen along the axis; the part must lie on it to 1e-6 of its radius). Its contact face is the
 mid-surface offset by half the shell thickness toward the ball, as LS-DYNA's automatic contacts
-place it. Units: the deck's numbers are read in one consistent system (:data:`~batball.io.
-keyword_cards.UNIT_SYSTEMS`, in-lbf-s by default) and converted to SI.
+place it. Units: the deck's numbers are read in one consistent system (:data:`~batball.lsdyna.cards.
+UNIT_SYSTEMS`, in-lbf-s by default) and converted to SI.
 """
 
 from __future__ import annotations
@@ -28,9 +28,9 @@ import numpy as np
 
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SpecError
-from batball.io.keyword_cards import UnitSystem, unit_system
-from batball.io.keyword_deck import CardLine, KeywordBlock, read_keyword_file, split_fields
 from batball.lab.impact import ContactOptions, ball_contact_stiffness, estimate_first_step
+from batball.lsdyna.cards import UnitSystem, unit_system
+from batball.lsdyna.deck import CardLine, KeywordBlock, read_keyword_file, split_fields
 from batball.mesh import Mesh
 from batball.solvers.explicit import (
     BALANCE,
@@ -52,14 +52,14 @@ CARD_COUNTS = {
     "TITLE": (1, 1), "DATABASE_GLSTAT": (1, 1), "BOUNDARY_PRESCRIBED_MOTION_RIGID": (1, 1),
     "DAMPING_GLOBAL": (1, 1), "DATABASE_MATSUM": (1, 1),
     "DATABASE_RCFORC": (1, 1), "DATABASE_NODOUT": (1, 1), "DATABASE_BINARY_D3PLOT": (1, 1),
-    # bat decks (read into batball.io.keyword_bat_model; the impact reader refuses them)
+    # bat decks (read into batball.lsdyna.bat_model; the impact reader refuses them)
     "MAT_COMPOSITE_DAMAGE": (5, 5), "CONTROL_IMPLICIT_GENERAL": (1, 1),
     "CONTROL_IMPLICIT_EIGENVALUE": (1, 1), "CONTROL_DYNAMIC_RELAXATION": (1, 1),
     "CONTACT_SURFACE_TO_SURFACE_INTERFERENCE": (4, 4),
     "CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET": (3, 3), "BOUNDARY_SPC_SET": (1, 1),
     "CONSTRAINED_NODAL_RIGID_BODY_SPC": (2, 2),
 }  # fmt: skip
-#: Keywords only the bat tests' decks use (:mod:`batball.io.keyword_bat_model` reads them).
+#: Keywords only the bat tests' decks use (:mod:`batball.lsdyna.bat_model` reads them).
 BAT_KEYWORDS = {"PART_COMPOSITE", "MAT_COMPOSITE_DAMAGE", "CONTROL_IMPLICIT_GENERAL",
                 "CONTROL_IMPLICIT_EIGENVALUE", "CONTROL_DYNAMIC_RELAXATION",
                 "CONTACT_SURFACE_TO_SURFACE_INTERFERENCE",

@@ -1,7 +1,7 @@
 """LS-DYNA keyword card layouts (field names, order and fixed-format widths) and unit systems.
 
-One table serves the deck writer (:mod:`batball.io.keyword_export`) and the reader
-(:mod:`batball.io.keyword_deck`). Every layout names its source. The primary source for field
+One table serves the deck writer (:mod:`batball.lsdyna.export`) and the reader
+(:mod:`batball.lsdyna.deck`). Every layout names its source. The primary source for field
 order and widths is the LS-DYNA Keyword User's Manual, Vol. I (R13/R14), read through two public
 transcriptions: the generated keyword classes of ``ansys/pydyna`` (``src/ansys/dyna/core/keywords/
 keyword_classes/auto/<group>/<keyword>.py``, each field given as name, start column, width) and

@@ -3,7 +3,7 @@
 The column ranges below are typed from the cited layouts (LS-DYNA Keyword User's Manual Vol I,
 as transcribed in ansys/pydyna's generated keyword classes: field start column and width; *NODE
 also on Altair's node_lsdyna_r page): 1-based, inclusive. They are written here independently of
-``batball.io.keyword_cards.LAYOUTS``. Each test checks that no number straddles a field boundary
+``batball.lsdyna.cards.LAYOUTS``. Each test checks that no number straddles a field boundary
 and that the fields hold the model's values, read at those columns, in the deck's in-lbf-s units
 (1 in = 0.0254 m, 1 lbf = 4.4482216152605 N, 1 psi = 6894.757 Pa).
 """
@@ -13,8 +13,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from batball.io.keyword_export import impact_deck
 from batball.lab.impact import ImpactSetup, ball_body, make_target
+from batball.lsdyna.export import impact_deck
 from batball.specs import load_ball_spec
 
 IN, LBF, MPH = 0.0254, 4.4482216152605, 0.44704
@@ -197,8 +197,8 @@ def test_compression_keywords_columns() -> None:
     """The compression deck's own keywords: *DEFINE_CURVE (header in 10 columns, points in two
     20-column fields), *BOUNDARY_PRESCRIBED_MOTION_RIGID, *DAMPING_GLOBAL, and the moving
     plate's *MAT_RIGID (CON1 4: x, y fixed)."""
-    from batball.io.keyword_export import compression_deck
     from batball.lab.compression import CompressionSetup, build_compression_model
+    from batball.lsdyna.export import compression_deck
 
     ball = load_ball_spec("type1")
     setup = CompressionSetup(divisions=2)

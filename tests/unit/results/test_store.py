@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from batball.io.store import (
+from batball.results.store import (
     atomic_path,
     inputs_hash,
     load_cached_summary,

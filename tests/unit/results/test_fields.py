@@ -9,8 +9,8 @@ import meshio
 import numpy as np
 import pytest
 
-from batball.io.fields import write_time_series, write_vtu
 from batball.mesh import Mesh, make_ball_mesh
+from batball.results.fields import write_time_series, write_vtu
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""Run a barrel compression deck (:func:`batball.io.keyword_bat.barrel_deck`) in batball.
+"""Run a barrel compression deck (:func:`batball.lsdyna.bat.barrel_deck`) in batball.
 
 batball's barrel test (:mod:`batball.lab.barrel`) builds its contacts from a bat spec (the bore
 radius, the interference, the walls at each station), so the deck's bat is turned back into one
@@ -21,9 +21,9 @@ import numpy as np
 
 from batball.contact.rigid import RigidCylinder
 from batball.errors import SpecError
-from batball.io.keyword_bat_model import BatDeck, contact_side, rigid_shells, supports
-from batball.io.keyword_cards import unit_system
 from batball.lab.barrel import BarrelTestOptions, build_barrel_model, compression_supports
+from batball.lsdyna.bat_model import BatDeck, contact_side, rigid_shells, supports
+from batball.lsdyna.cards import unit_system
 from batball.mesh.bat import make_bat_mesh
 from batball.mesh.shell import quad_areas
 from batball.specs.bat import BatSpec, InsertSpec, PartSpec, PlySpec

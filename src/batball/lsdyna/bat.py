@@ -19,12 +19,19 @@ import math
 
 import numpy as np
 
-from batball import __version__
 from batball.contact.rigid import RigidCylinder
 from batball.elements.shell_stiffness import SHEAR_FACTOR
 from batball.errors import SpecError
-from batball.io.keyword_cards import UnitSystem, unit_system
-from batball.io.keyword_export import (
+from batball.lab.barrel import (
+    BarrelTestOptions,
+    build_barrel_model,
+    compression_supports,
+    load_axes,
+)
+from batball.lab.bbs import BbsSetup, build_bbs_model
+from batball.lab.impact import ball_body
+from batball.lsdyna.cards import UnitSystem, unit_system
+from batball.lsdyna.export import (
     _LONG,
     BALL_PART,
     card,
@@ -40,14 +47,6 @@ from batball.io.keyword_export import (
     target_node_lines,
     target_shells,
 )
-from batball.lab.barrel import (
-    BarrelTestOptions,
-    build_barrel_model,
-    compression_supports,
-    load_axes,
-)
-from batball.lab.bbs import BbsSetup, build_bbs_model
-from batball.lab.impact import ball_body
 from batball.materials.laminate import Ply
 from batball.materials.orthotropic import MAT022_PARAMETERS
 from batball.mesh.bat import make_bat_mesh
@@ -55,6 +54,7 @@ from batball.mesh.shell import ShellMesh, quad_areas
 from batball.specs import BallSpec
 from batball.specs.bat import BatSpec, PlySpec
 from batball.units import IN, MPH
+from batball.version import __version__
 
 BAT_NODE_START = 200_001
 BAT_ELEMENT_START = 200_001
@@ -390,7 +390,7 @@ def platen_mesh_lines(
     platens: tuple[RigidCylinder, ...], spec: BatSpec, u: UnitSystem
 ) -> list[str]:
     """*NODE and *ELEMENT_SHELL of rigid half-cylinders (parts 2, 3, ..; ids from 1,000,001 +
-    100,000 i), meshed as the ball tests' targets are (:func:`~batball.io.keyword_export.
+    100,000 i), meshed as the ball tests' targets are (:func:`~batball.lsdyna.export.
     target_shells`)."""
     shells = [target_shells(p, float(spec.outer_radius(spec.length))) for p in platens]
     return ["*NODE", head("NODE", 0), *target_node_lines(shells, u), *target_element_lines(shells)]

@@ -3,10 +3,10 @@
 Lines starting with ``$`` are comments; a line starting with ``*`` opens a keyword; ``*INCLUDE``
 cards name files read in place (relative to the including file's folder); ``*END`` ends a file.
 A card with a comma is free format (comma-separated fields in the card's order); otherwise the
-fields are cut at the card's fixed columns (:data:`batball.io.keyword_cards.LAYOUTS`), 20 columns
+fields are cut at the card's fixed columns (:data:`batball.lsdyna.cards.LAYOUTS`), 20 columns
 each in long format (a keyword written ``*NODE +``, or every keyword after ``*KEYWORD LONG=Y``;
 ``-`` switches one keyword back to standard). Keyword Manual Vol I, "General card format" and
-*INCLUDE, *KEYWORD. What a deck *means* is read in :mod:`batball.io.keyword_model`; this module
+*INCLUDE, *KEYWORD. What a deck *means* is read in :mod:`batball.lsdyna.model`; this module
 only splits it, and fails with a :class:`SpecError` naming the file and line on text it cannot
 read.
 """
@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from batball.errors import SpecError
-from batball.io.keyword_cards import ALIASES, LAYOUTS
+from batball.lsdyna.cards import ALIASES, LAYOUTS
 
 LONG_WIDTH = 20
 

@@ -2,7 +2,7 @@
 
 The column ranges are typed here from the cited transcriptions of the LS-DYNA Keyword User's
 Manual Vol I (ansys/pydyna's generated keyword classes, auto/<group>/<keyword>.py: each field's
-start column and width), independently of ``batball.io.keyword_cards.LAYOUTS``: *PART_COMPOSITE
+start column and width), independently of ``batball.lsdyna.cards.LAYOUTS``: *PART_COMPOSITE
 (part/part_composite.py), *MAT_COMPOSITE_DAMAGE (mat/mat_composite_damage.py),
 *CONTROL_IMPLICIT_GENERAL, *CONTROL_IMPLICIT_EIGENVALUE, *CONTROL_DYNAMIC_RELAXATION
 (control/...), *CONTACT_TIED_SHELL_EDGE_TO_SURFACE_BEAM_OFFSET and
@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 from test_keyword_cards import blocks, num, read, tens
 
-from batball.io.keyword_bat import barrel_deck, bbs_deck, modal_deck
 from batball.lab.barrel import BarrelTestOptions
 from batball.lab.bbs import BbsSetup
+from batball.lsdyna.bat import barrel_deck, bbs_deck, modal_deck
 from batball.mesh.bat import make_bat_mesh
 from batball.mesh.shell import quad_areas
 from batball.specs import load_ball_spec

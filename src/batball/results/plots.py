@@ -3,11 +3,24 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from batball.io.store import atomic_path
+from batball.results.store import atomic_path
 from batball.units import LBF
+
+
+def new_figure(*grid: int, figsize: tuple[float, float], dpi: float | None = None,
+               **subplots: Any) -> tuple[Any, Any]:  # fmt: skip
+    """A matplotlib Figure and its axes (``Figure.subplots(*grid, **subplots)``), made without
+    pyplot: no backend is chosen or changed (a notebook's stays as it was), nothing is
+    registered with pyplot's figure manager, and the figure is freed with its last reference.
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, dpi=dpi)
+    return fig, fig.subplots(*grid, **subplots)
 
 
 def plot_force_time(
@@ -45,12 +58,8 @@ def plot_lines(
         lines: (x, y, label) per curve; xlabel, ylabel: axis names with their units.
         level: (y, label) of a horizontal dashed line; points: (x, y, label) markers.
     """
-    import matplotlib
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=120)
+    fig, ax = new_figure(figsize=(6.4, 4.0), dpi=120)
     for x, y, label in lines:
         ax.plot(x, y, lw=1.2, label=label)
     if level is not None:
@@ -65,4 +74,3 @@ def plot_lines(
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp)
-    plt.close(fig)

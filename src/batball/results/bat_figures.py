@@ -13,8 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from batball.io.store import atomic_path
 from batball.mesh.shell import ShellMesh, quad_normals
+from batball.results.store import atomic_path
 from batball.specs.bat import BatSpec
 from batball.units import IN
 
@@ -115,14 +115,12 @@ def plot_bat_mesh(path: Path, spec: BatSpec, mesh: ShellMesh, *, title: str = ""
         mesh: its shell mesh with one cell set per part and ``"insert"``.
         title: figure title; the bat's name and element count by default.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.patches import Patch
 
+    from batball.results.plots import new_figure
+
     colours, named = cell_colours(mesh)
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(12.0, 4.9), dpi=150,
+    fig, (top, bottom) = new_figure(2, 1, figsize=(12.0, 4.9), dpi=150,
                                       gridspec_kw={"height_ratios": [1.0, 1.5]})  # fmt: skip
     _draw(top, mesh, colours, np.ones(mesh.n_cells, dtype=bool), edges=False)
     top.set_title(title or f"{spec.name}: {mesh.n_cells:,} four-node shells, coloured by part")
@@ -138,7 +136,6 @@ def plot_bat_mesh(path: Path, spec: BatSpec, mesh: ShellMesh, *, title: str = ""
     fig.tight_layout(rect=(0, 0.06, 1, 1))
     with atomic_path(path) as tmp:
         fig.savefig(tmp)
-    plt.close(fig)
 
 
 def barrel_cutaway(spec: BatSpec, mesh: ShellMesh) -> np.ndarray:

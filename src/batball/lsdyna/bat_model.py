@@ -1,5 +1,5 @@
 """Read a bat test's LS-DYNA keyword deck (the modal, barrel or bbs deck of
-:mod:`batball.io.keyword_bat`, or one written like it) back into batball's bat model.
+:mod:`batball.lsdyna.bat`, or one written like it) back into batball's bat model.
 
 The bat: every ``*PART_COMPOSITE`` is a part (its title names the cell set), its layers a
 :class:`~batball.materials.laminate.Laminate` of ``*MAT_COMPOSITE_DAMAGE`` laminae (MAT_022's
@@ -13,7 +13,7 @@ node count first, then the insert's), which the exported decks keep; another num
 What batball runs from a deck: the modal test (:func:`run_modal_deck`, the same
 :func:`~batball.lab.modal.shell_modes` as ``batball modal``). The barrel and bbs decks are read
 (bat, platens, supports, ball, velocities, contacts, pivot) into :class:`BatDeck` here and run by
-:mod:`batball.io.keyword_bat_barrel` and :mod:`batball.io.keyword_bat_bbs`, which turn the deck
+:mod:`batball.lsdyna.bat_barrel` and :mod:`batball.lsdyna.bat_bbs`, which turn the deck
 back into the specs those tests build their contacts from.
 """
 
@@ -29,8 +29,8 @@ import numpy as np
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.elements.shell_stiffness import ShellSection, shell_section
 from batball.errors import SpecError
-from batball.io.keyword_cards import UnitSystem, unit_system
-from batball.io.keyword_model import (
+from batball.lsdyna.cards import UnitSystem, unit_system
+from batball.lsdyna.model import (
     Deck,
     _initial_velocity,
     _materials,
@@ -84,7 +84,7 @@ class BatDeck:
     title: str
 
     def section(self) -> ShellSection:
-        """Per-cell section constants, as :func:`batball.lab.modal.bat_section` makes them."""
+        """Per-cell section constants, as :func:`batball.models.bat.bat_section` makes them."""
         names = list(self.laminates)
         cell_laminate = np.full(self.mesh.n_cells, -1, dtype=np.int64)
         for k, name in enumerate(names):
@@ -310,8 +310,8 @@ def run_modal_deck(bat: BatDeck) -> dict[str, Any]:
         raise SpecError(
             "deck",
             bat.test,
-            "a modal deck (barrel and bbs decks run through keyword_bat_barrel and "
-            "keyword_bat_bbs, see docs/lsdyna.md)",
+            "a modal deck (barrel and bbs decks run through batball.lsdyna.bat_barrel and "
+            "batball.lsdyna.bat_bbs, see docs/lsdyna.md)",
         )
     modes = shell_modes(bat.mesh, bat.section(), circumferential=bat.circumferential,
                         n_modes=bat.n_modes)  # fmt: skip
@@ -352,7 +352,7 @@ def supports(bat: BatDeck) -> list[tuple[np.ndarray, tuple[int, ...]]]:
 
 def rigid_shells(bat: BatDeck, u: UnitSystem) -> dict[int, RigidPlane | RigidCylinder]:
     """The fixed or moving *MAT_RIGID shell parts (barrel platens) as batball's analytic
-    surfaces (:func:`batball.io.keyword_model.fit_target`), by part id; the contact face is
+    surfaces (:func:`batball.lsdyna.model.fit_target`), by part id; the contact face is
     offset half the shell thickness toward the bat."""
     out = {}
     centre = bat.mesh.points.mean(axis=0)

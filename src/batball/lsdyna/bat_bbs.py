@@ -1,10 +1,10 @@
-"""Run a batted-ball-speed deck (:func:`batball.io.keyword_bat.bbs_deck`) in batball.
+"""Run a batted-ball-speed deck (:func:`batball.lsdyna.bat.bbs_deck`) in batball.
 
 batball's bbs test (:mod:`batball.lab.bbs`) builds its model from a bat spec, a ball spec and a
 :class:`~batball.lab.bbs.BbsSetup`, so the deck is turned back into those three and the model
 is built by :func:`~batball.lab.bbs.build_bbs_model`, the same path as ``batball bbs``:
 
-* the bat: :func:`~batball.io.keyword_bat_barrel.spec_from_deck` (checked to rebuild the deck's
+* the bat: :func:`~batball.lsdyna.bat_barrel.spec_from_deck` (checked to rebuild the deck's
   shells node for node);
 * the ball: its *MAT card (a registered law, each parameter from its LS-DYNA field), its size
   from the hexes (centre = mean node, radius = farthest node), its mass = RO x the hexes'
@@ -34,16 +34,6 @@ import numpy as np
 
 from batball.elements.shell_stiffness import SHEAR_FACTOR
 from batball.errors import SpecError
-from batball.io.keyword_bat_barrel import mesh_sizes, spec_from_deck
-from batball.io.keyword_bat_model import (
-    BatDeck,
-    ball_of,
-    contact_side,
-    insert_part,
-    pivot_band,
-)
-from batball.io.keyword_cards import UnitSystem, unit_system
-from batball.io.keyword_model import _controls, _hourglass, _part_ids
 from batball.lab.bbs import (
     BbsModel,
     BbsResult,
@@ -53,6 +43,16 @@ from batball.lab.bbs import (
     run_bbs_model,
 )
 from batball.lab.impact import ContactOptions
+from batball.lsdyna.bat_barrel import mesh_sizes, spec_from_deck
+from batball.lsdyna.bat_model import (
+    BatDeck,
+    ball_of,
+    contact_side,
+    insert_part,
+    pivot_band,
+)
+from batball.lsdyna.cards import UnitSystem, unit_system
+from batball.lsdyna.model import _controls, _hourglass, _part_ids
 from batball.materials import MATERIAL_LAWS
 from batball.mesh import Mesh, hex_volumes
 from batball.specs import BallSpec

@@ -21,20 +21,20 @@ from typing import Any
 
 import numpy as np
 
-from batball import __version__
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SpecError
-from batball.io.keyword_cards import (
+from batball.lab.compression import TRAVEL_MARGIN, CompressionSetup, build_compression_model
+from batball.lab.impact import ImpactSetup, ball_body, make_target
+from batball.lsdyna.cards import (
     LAYOUTS,
     UnitSystem,
     comment_header,
     format_card,
     unit_system,
 )
-from batball.lab.compression import TRAVEL_MARGIN, CompressionSetup, build_compression_model
-from batball.lab.impact import ImpactSetup, ball_body, make_target
 from batball.specs import BallSpec
 from batball.units import IN, MPH
+from batball.version import __version__
 
 #: Shell thickness of the rigid target [m]; only its contact offset matters (it is rigid).
 TARGET_THICKNESS = 0.05 * IN

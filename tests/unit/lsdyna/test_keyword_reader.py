@@ -13,10 +13,10 @@ import pytest
 
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SpecError
-from batball.io.keyword_deck import read_keyword_file, split_fields
-from batball.io.keyword_export import impact_deck
-from batball.io.keyword_model import parse_deck, read_deck
 from batball.lab.impact import ImpactSetup, build_impact_model, make_target
+from batball.lsdyna.deck import read_keyword_file, split_fields
+from batball.lsdyna.export import impact_deck
+from batball.lsdyna.model import parse_deck, read_deck
 from batball.specs import load_ball_spec
 
 MPH = 0.44704
@@ -140,7 +140,7 @@ def test_deck_reads_back_to_the_direct_model(units: str, tmp_path: Path) -> None
 
 def test_free_format_deck_reads_like_the_fixed_one(tmp_path: Path) -> None:
     """The exported deck rewritten with commas (fields split at their columns) reads the same."""
-    from batball.io.keyword_cards import LAYOUTS
+    from batball.lsdyna.cards import LAYOUTS
 
     text = impact_deck(load_ball_spec("type1"), ImpactSetup("cor", 60 * MPH, divisions=2))
     out, keyword, index = [], "", 0

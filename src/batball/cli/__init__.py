@@ -1,0 +1,52 @@
+"""The command line: ``batball <test> ...``; ``--json`` prints one JSON object on stdout.
+
+The virtual tests' subcommands are made from the lab registry (:mod:`batball.cli.lab_tests`); the
+bat fit, the LS-DYNA decks and the studies (reproduce, calibrate, the calibration routes) have
+modules of their own. Bad input exits with status 2 and one line naming the field, the value and
+what is allowed; a numerical failure exits with status 3 and says where and when.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from batball.cli.bat import add_fit_bat_parser
+from batball.cli.decks import add_export_parser, add_run_deck_parser
+from batball.cli.lab_tests import add_lab_test_parsers
+from batball.cli.studies import add_calibrate_parser, add_reproduce_parser, add_routes_parsers
+from batball.errors import SimulationError, SpecError
+from batball.version import __version__
+
+#: What ``batball --help`` says first.
+DESCRIPTION = ("batball, a virtual bat-and-ball laboratory: each virtual test is a subcommand; "
+               "--json prints one JSON object on stdout.")  # fmt: skip
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``batball`` parser with its subcommands."""
+    parser = argparse.ArgumentParser(prog="batball", description=DESCRIPTION)
+    parser.add_argument("--version", action="version", version=f"batball {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True)
+    add_reproduce_parser(sub)  # the main job first in the help
+    add_lab_test_parsers(sub)
+    add_fit_bat_parser(sub)
+    add_calibrate_parser(sub)
+    add_export_parser(sub)
+    add_run_deck_parser(sub)
+    add_routes_parsers(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``batball`` command."""
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.handler(args))
+    except SpecError as exc:
+        print(f"batball: error: {exc}", file=sys.stderr)
+        return 2
+    except SimulationError as exc:
+        print(f"batball: simulation stopped: {exc}", file=sys.stderr)
+        return 3

@@ -1,0 +1,7 @@
+"""``python -m batball.cli``: the ``batball`` command."""
+
+import sys
+
+from batball.cli import main
+
+sys.exit(main())

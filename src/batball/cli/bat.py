@@ -1,0 +1,125 @@
+"""``batball fit-bat``: chosen layup or lumped-mass values of a bat fitted to its measured mass
+properties or hoop frequencies; and the bat options that commands outside the registry share."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+from batball.cli.options import add_json_option, add_options, add_store_options, add_subject
+from batball.errors import SpecError
+from batball.lab.registry import AXIAL_SIZE, CIRCUMFERENTIAL, PIVOT, parse_options
+
+#: The bat's mesh and pivot, as every bat command declares them.
+BAT_MESH_AND_PIVOT = (CIRCUMFERENTIAL, AXIAL_SIZE, PIVOT)
+
+
+def add_bat_mesh_options(p: argparse.ArgumentParser) -> None:
+    """``--bat``, the mesh density, the pivot and ``--json``."""
+    add_subject(p, "bat")
+    add_options(p, BAT_MESH_AND_PIVOT)
+    add_json_option(p)
+
+
+def bat_mesh_options(args: argparse.Namespace) -> dict[str, Any]:
+    """circumferential, axial_size and pivot (SI) from the parsed options, checked."""
+    return parse_options(BAT_MESH_AND_PIVOT, args)
+
+
+def add_fit_bat_parser(sub: Any) -> None:
+    """``batball fit-bat``: adjust chosen bat parameters to measured mass properties or hoop
+    frequencies."""
+    help_text = ("fit chosen layup or lumped-mass values of a bat to its weight, BP and MOI, "
+                 "or to its measured hoop frequencies")  # fmt: skip
+    p = sub.add_parser("fit-bat", help=help_text, description=help_text)
+    add_bat_mesh_options(p)
+    p.add_argument(
+        "--to",
+        choices=("mass", "hoop"),
+        default="mass",
+        help="what to match: mass (weight, balance point, MOI; seed Table 1) or hoop (the "
+        "first two hoop frequencies of the free-free modal test, insert as contact; Table 3)",
+    )
+    p.add_argument(
+        "--free",
+        action="append",
+        help="a parameter to adjust: lumped_mass:<part>, thickness:<ply label>[@<part>+...] or "
+        "angle:<ply label>[@<part>+...]; repeat it (default for --to mass: lumped_mass:endcap, "
+        "thickness:handle-glass, thickness:barrel-carbon; for --to hoop: "
+        "angle:barrel-carbon@barrel-1+barrel-2+barrel-3+endcap)",
+    )
+    p.add_argument("--weight", default="22.1 oz", help="target weight (seed Table 1: 22.1 oz)")
+    p.add_argument(
+        "--balance-point", default="21.0 in", help="target balance point from the knob (21.0 in)"
+    )
+    p.add_argument(
+        "--moi", default="6920 oz*in**2", help="target MOI about the pivot (6920 oz*in**2)"
+    )
+    p.add_argument(
+        "--hoop",
+        nargs="+",
+        default=["1450 Hz", "1950 Hz"],
+        help="target hoop frequencies, lowest first (seed Table 3: '1450 Hz' '1950 Hz')",
+    )
+    p.add_argument("--output", type=Path, help="write the fitted bat to this TOML file")
+    add_store_options(p)
+    p.set_defaults(handler=run_fit_bat_command)
+
+
+def run_fit_bat_command(args: argparse.Namespace) -> int:
+    """``batball fit-bat``; exits with status 1 when the fit fails or a bound stops it."""
+    from batball.lab.fit_bat import (
+        DEFAULT_FREE,
+        DEFAULT_HOOP_FREE,
+        FreeParameter,
+        HoopTargets,
+        MassTargets,
+        fit_bat,
+        fit_summary,
+        write_fitted_bat,
+    )
+    from batball.specs import load_bat_spec
+    from batball.units import parse_quantity
+
+    spec = load_bat_spec(args.bat)
+    options = bat_mesh_options(args)
+    pivot = options.pop("pivot")
+    targets: MassTargets | HoopTargets
+    if args.to == "mass":
+        targets = MassTargets(
+            weight=parse_quantity(args.weight, "mass", field="weight"),
+            balance_point=parse_quantity(args.balance_point, "length", field="balance-point"),
+            moi_pivot=parse_quantity(args.moi, "moment_of_inertia", field="moi"),
+            pivot=pivot,
+        )
+    else:
+        hoop = tuple(parse_quantity(text, "frequency", field="hoop") for text in args.hoop)
+        if not all(f > 0 for f in hoop) or list(hoop) != sorted(set(hoop)):
+            raise SpecError("hoop", " ".join(args.hoop), "positive frequencies, lowest first")
+        targets = HoopTargets(hoop_hz=hoop, runs_dir=args.runs_dir, reuse=not args.no_reuse)
+    default_free = DEFAULT_FREE if args.to == "mass" else DEFAULT_HOOP_FREE
+    free = tuple(FreeParameter.parse(text) for text in (args.free or default_free))
+    fit = fit_bat(spec, targets, free, **options)
+    if args.output is not None:
+        write_fitted_bat(args.output, fit)
+    summary = fit_summary(fit, targets)
+    print(json.dumps(summary, indent=2) if args.json else describe_fit(summary))
+    return 0 if fit.matched else 1
+
+
+def describe_fit(s: dict[str, Any]) -> str:
+    """A short human report of a fit summary."""
+    kind = "least squares, " if s["least_squares"] else ""
+    lines = [f"Fit of bat {s['bat']} to {s['fitted_to']} ({kind}{s['n_evaluations']} "
+             f"evaluations, {'converged' if s['success'] else 'NOT converged'})"]  # fmt: skip
+    for name, p in s["parameters"].items():
+        lines.append(f"  {name:<28} {p['initial']} -> {p['fitted']}")
+    for key, value in s["properties"].items():
+        lines.append(f"  {key:<28} {value:.5g}   (target {s['targets'][key]:.5g}, "
+                     f"{s['error_percent'][key]:+.2f} %)")  # fmt: skip
+    if not s["matched"]:
+        bounds = ", ".join(s["at_bound"]) or "none"
+        lines.append(f"  targets NOT met; parameters at a bound: {bounds}")
+    return "\n".join(lines)

@@ -1,0 +1,44 @@
+"""One subcommand per entry of the lab registry (:data:`batball.lab.registry.LAB_TESTS`)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from typing import Any
+
+from batball.cli.options import (
+    add_json_option,
+    add_options,
+    add_store_options,
+    add_subject,
+    progress_bar,
+)
+from batball.lab.registry import LAB_TESTS, load_subject
+
+
+def add_lab_test_parsers(sub: Any) -> None:
+    """``batball ccor``, ``cor``, ``compression``, ``props``, ``modal``, ``barrel``, ``bbs``."""
+    for test in LAB_TESTS.values():
+        p = sub.add_parser(test.name, help=test.help, description=test.help)
+        for kind in test.subjects:
+            add_subject(p, kind)
+        add_options(p, test.options)
+        add_store_options(p)
+        add_json_option(p)
+        p.set_defaults(handler=run_lab_test_command, lab_test=test.name)
+
+
+def run_lab_test_command(args: argparse.Namespace) -> int:
+    """Check every option, load the subjects, run (or reuse) the test and report it."""
+    test = LAB_TESTS[args.lab_test]
+    setup = test.setup(**{o.name: getattr(args, o.name) for o in test.options})
+    subjects = {kind: load_subject(kind, getattr(args, kind)) for kind in test.subjects}
+    span, unit = test.span(setup) if test.span is not None else (0.0, "s")
+    update, bar = progress_bar(span, enabled=test.span is not None, unit=unit)
+    try:
+        summary, _ = test.run(subjects, setup, runs_dir=args.runs_dir, reuse=not args.no_reuse,
+                              progress=update)  # fmt: skip
+    finally:
+        bar.close()
+    print(json.dumps(summary, indent=2) if args.json else test.describe(summary))
+    return 0

@@ -1,0 +1,115 @@
+"""The studies: ``batball reproduce`` (the seed study as one report), ``calibrate`` and the
+calibration routes (``compare-calibrations``, ``synthetic-data``, ``synthetic-noise``)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from batball.cli.bat import add_bat_mesh_options
+from batball.cli.options import add_store_options
+
+
+def add_reproduce_parser(sub: Any) -> None:
+    """``batball reproduce``: every available test of the seed study, as an HTML report."""
+    help_text = "rerun the seed study (Tables 1-9) and write an HTML report with figures"
+    p = sub.add_parser("reproduce", help=help_text, description=help_text)
+    p.add_argument(
+        "--quick",
+        action="store_true",
+        help="coarse meshes (ball divisions 6, 16 bat shells around): a first look, CI",
+    )
+    p.add_argument("--out", type=Path, default=Path("report"), help="report folder (report/)")
+    p.add_argument(
+        "--calibrate",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="calibrate both balls (Table 4); default: yes, but not with --quick",
+    )
+    add_store_options(p)
+    p.add_argument("--json", action="store_true", help="print summary.json on stdout")
+    p.set_defaults(handler=run_reproduce_command)  # fmt: skip
+
+
+def run_reproduce_command(args: argparse.Namespace) -> int:
+    """``batball reproduce``; progress on stderr, the report's path (or its JSON) on stdout."""
+    from batball.report.reproduce import (
+        FULL_MESHES,
+        QUICK_MESHES,
+        ReproduceOptions,
+        dump_summary,
+        reproduce,
+    )
+
+    calibrate = not args.quick if args.calibrate is None else args.calibrate
+    flag = {None: [], True: ["--calibrate"], False: ["--no-calibrate"]}[args.calibrate]
+    command = " ".join(["batball", "reproduce", *(["--quick"] if args.quick else []), *flag,
+                        "--out", args.out.as_posix(), "--runs-dir", args.runs_dir.as_posix(),
+                        *(["--no-reuse"] if args.no_reuse else [])])  # fmt: skip
+    options = ReproduceOptions(out_dir=args.out, runs_dir=args.runs_dir,
+                               meshes=QUICK_MESHES if args.quick else FULL_MESHES,
+                               reuse=not args.no_reuse, command=command,
+                               calibrate=calibrate)  # fmt: skip
+    result = reproduce(options)
+    print(dump_summary(result) if args.json else describe_reproduction(result))
+    return 0
+
+
+def describe_reproduction(result: Any) -> str:
+    """Where the report is, how batball compares with the seed's LS-DYNA, what is missing."""
+    from batball.report.reproduce_html import verdict_counts
+
+    counts = verdict_counts(result)
+    missing = (
+        ", ".join(o.test.name for o in result.outcomes if not o.available and not o.skipped)
+        or "none"
+    )
+    skipped = [f"  {o.test.name} {o.missing}" for o in result.outcomes if o.skipped]
+    return "\n".join([
+        f"report: {(result.options.out_dir / 'index.html').as_posix()}",
+        f"  batball closer to the experiment than the seed's LS-DYNA in {counts['closer']} cells, "
+        f"as close in {counts['tie']}, farther in {counts['farther']}",
+        f"  not yet available: {missing}",
+        *skipped,
+        f"  {result.seconds:.1f} s",
+    ])  # fmt: skip
+
+
+def add_calibrate_parser(sub: Any) -> None:
+    """``batball calibrate``: fit a ball's material model to measured impact data."""
+    from batball.calibrate.command import add_calibrate_arguments, run_calibrate_command
+
+    help_text = "fit a ball's material model to measured CCOR, DS, peak force and contact time"
+    p = sub.add_parser("calibrate", help=help_text, description=help_text)
+    add_calibrate_arguments(p)
+    p.set_defaults(handler=run_calibrate_command)
+
+
+def add_routes_parsers(sub: Any) -> None:
+    """``batball compare-calibrations``, ``synthetic-data`` and ``synthetic-noise``."""
+    from batball.calibrate.routes_command import (
+        add_compare_arguments,
+        add_noise_arguments,
+        add_synthetic_arguments,
+        run_compare_command,
+        run_noise_command,
+        run_synthetic_command,
+    )
+
+    help_text = "calibrate a ball by each route with data (flat COR, CCOR, DMA) and compare BBS"
+    p = sub.add_parser("compare-calibrations", help=help_text, description=help_text)
+    add_bat_mesh_options(p)
+    add_compare_arguments(p)
+    add_store_options(p)
+    p.set_defaults(handler=run_compare_command)
+    help_text = "measure a known true ball with the virtual tests: each route's data files"
+    p = sub.add_parser("synthetic-data", help=help_text, description=help_text)
+    add_bat_mesh_options(p)
+    add_synthetic_arguments(p)
+    add_store_options(p)
+    p.set_defaults(handler=run_synthetic_command)
+    help_text = "seeded noisy copies of a synthetic route data set (assumed lab repeatability)"
+    p = sub.add_parser("synthetic-noise", help=help_text, description=help_text)
+    add_noise_arguments(p)
+    p.set_defaults(handler=run_noise_command)

@@ -1,0 +1,376 @@
+"""The registry of virtual tests: every test on the protocol of :mod:`batball.lab.protocol`.
+
+:data:`LAB_TESTS` maps the name users type to its :class:`~batball.lab.protocol.LabTest`. The
+command line makes one subcommand of each entry and the Python API one function; a new test is one
+entry here. Options shared by several tests are declared once below and reused, with a test's own
+default where it differs (the inbound speed).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from batball.errors import SpecError
+from batball.lab import describe
+from batball.lab.protocol import LabTest, Option
+
+# --- ball options -------------------------------------------------------------------------------
+
+SPEED = Option("speed", "95 mph", "inbound speed with its unit", dimension="velocity",
+               check=lambda v: v > 0, allowed="a positive speed, e.g. '95 mph'")  # fmt: skip
+DIVISIONS = Option("divisions", 12, "ball mesh size: 12 gives the seed's 12,096 hexes",
+                   kind="int")  # fmt: skip
+HOURGLASS_TYPE = Option("hourglass_type", 1, "LS-DYNA IHQ 1-5", kind="int")
+HOURGLASS_COEFFICIENT = Option("hourglass_coefficient", 0.1, "QH/QM", kind="float")
+BULK_VISCOSITY = Option("bulk_viscosity", True, "bulk viscosity (Q1 = 1.5, Q2 = 0.06)",
+                        kind="flag")  # fmt: skip
+SOFT = Option("soft", 0, "contact SOFT option, 0 or 1", kind="int")
+CONTACT_THRESHOLD = Option("contact_threshold", 0.01,
+                           "contact-time level as a fraction of the peak force",
+                           kind="float")  # fmt: skip
+PRECISION = Option("precision", "single",
+                   "element arithmetic of the ball: single, as LS-DYNA's default executable, or "
+                   "double (they agree to about 1e-6 in CCOR, docs/precision.md)",
+                   kind="choice", choices=("single", "double"))  # fmt: skip
+
+# --- bat options --------------------------------------------------------------------------------
+
+CIRCUMFERENTIAL = Option("circumferential", 48,
+                         "shells around the circumference (with 0.1 in: 20,928 shells)",
+                         kind="int", check=lambda n: n >= 3, allowed="an integer >= 3")  # fmt: skip
+AXIAL_SIZE = Option("axial_size", "0.1 in", "largest shell length along the bat",
+                    dimension="length", check=lambda v: v > 0,
+                    allowed="a positive length, e.g. '0.1 in'")  # fmt: skip
+PIVOT = Option("pivot", "6 in", "pivot distance from the knob end", dimension="length")
+SHELL = Option("shell", "bt", "the bat's explicit shells: bt, one-point Belytschko-Tsay, or "
+               "mitc4, the statics' MITC4 made co-rotational", kind="choice",
+               choices=("bt", "mitc4"))  # fmt: skip
+HOURGLASS_RATIO = Option("hourglass_ratio", None,
+                         "hourglass ratio r of the bat's one-point shells, 0 < r <= 1 "
+                         "(default LS-DYNA's 0.01)", kind="float")  # fmt: skip
+BAT_MESH = (CIRCUMFERENTIAL, AXIAL_SIZE)
+
+
+# --- the Setups of the bat tests (the ball tests' live with their models) ------------------------
+
+
+@dataclass(frozen=True)
+class PropsSetup:
+    """Mass properties (ASTM F2398): the shell mesh [count, m] and the pivot from the knob [m]."""
+
+    circumferential: int = 48
+    axial_size: float = 0.0254 * 0.1
+    pivot: float = 0.0254 * 6.0
+
+
+@dataclass(frozen=True)
+class ModalSetup:
+    """Free-free modes: the shell mesh, how many modes (six rigid ones first) and the insert's
+    fit ("contact": the pre-stressed fit, sliding; "bonded": tied)."""
+
+    circumferential: int = 48
+    axial_size: float = 0.0254 * 0.1
+    modes: int = 30
+    insert: str = "contact"
+
+    def __post_init__(self) -> None:
+        if self.modes < 8:
+            raise SpecError("modes", self.modes, "an integer >= 8 (six rigid-body modes first)")
+
+
+@dataclass(frozen=True)
+class BarrelSetup:
+    """Barrel compression (seed Table 2): the shell mesh, the static ramp of the fit, Coulomb
+    friction insert-barrel and platens-barrel during the squeeze, and the solver ("static", or
+    "explicit" with its shell element and, for BT shells, hourglass ratio)."""
+
+    circumferential: int = 48
+    axial_size: float = 0.0254 * 0.1
+    ramp_steps: int = 1
+    friction: float = 0.0
+    platen_friction: float = 0.0
+    solver: str = "static"
+    shell: str | None = None
+    hourglass_ratio: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.ramp_steps < 1:
+            raise SpecError("ramp-steps", self.ramp_steps, "an integer >= 1")
+        if self.solver == "explicit":
+            if self.hourglass_ratio is not None and self.shell != "bt":
+                raise SpecError("hourglass-ratio", self.hourglass_ratio,
+                                "only with --shell bt (MITC4 shells have none)")  # fmt: skip
+        elif self.shell is not None or self.hourglass_ratio is not None:
+            name, value = (("shell", self.shell) if self.shell is not None
+                           else ("hourglass-ratio", self.hourglass_ratio))  # fmt: skip
+            raise SpecError(name, value, "only with --solver explicit")
+
+
+# --- build: parsed option values -> Setup --------------------------------------------------------
+
+
+def _ball_numerics(values: Mapping[str, Any]) -> dict[str, Any]:
+    """The hourglass, bulk-viscosity and contact settings of a ball test's options."""
+    from batball.lab.impact import ContactOptions
+    from batball.solvers.explicit import BulkViscosity, HourglassControl
+
+    return {
+        "hourglass": HourglassControl(
+            type=values["hourglass_type"], coefficient=values["hourglass_coefficient"]
+        ),
+        "bulk_viscosity": BulkViscosity(enabled=values.get("bulk_viscosity", True)),
+        "contact": ContactOptions(soft=values.get("soft", 0), sfs=values.get("sfs", 1.0)),
+    }
+
+
+def _impact_builder(test: str) -> Any:
+    def build(values: Mapping[str, Any]) -> Any:
+        from batball.lab.impact import ImpactSetup
+
+        return ImpactSetup(test=test, speed=values["speed"], divisions=values["divisions"],
+                           contact_threshold=values["contact_threshold"],
+                           precision=values["precision"], **_ball_numerics(values))  # fmt: skip
+
+    return build
+
+
+def _build_compression(values: Mapping[str, Any]) -> Any:
+    from batball.lab.compression import CompressionSetup
+
+    numerics = _ball_numerics(values)
+    return CompressionSetup(displacement=values["displacement"], rate=values["rate"],
+                            divisions=values["divisions"], hourglass=numerics["hourglass"],
+                            quasi_static_ratio=values["quasi_static_ratio"],
+                            contact=numerics["contact"])  # fmt: skip
+
+
+def _build_bbs(values: Mapping[str, Any]) -> Any:
+    from batball.lab.bbs import BbsSetup
+
+    ratio = values["hourglass_ratio"]
+    return BbsSetup(
+        speed=values["speed"], pitch_speed=values["pitch_speed"],
+        swing_speed=values["swing_speed"], impact_from_cap=values["impact"],
+        pivot_from_knob=values["pivot"], pivot_band=values["pivot_band"],
+        ball_divisions=values["divisions"], circumferential=values["circumferential"],
+        axial_size=values["axial_size"], rigid_bat=values["rigid_bat"],
+        end_time=values["end_time"], mass_scaling=values["mass_scaling"],
+        precision=values["precision"], insert_friction=values["insert_friction"],
+        bat_damping=values["bat_damping"], bat_shell=values["shell"],
+        **({} if ratio is None else {"shell_hourglass_ratio": ratio}),
+    )  # fmt: skip
+
+
+# --- run: subjects and Setup -> (summary, run folder) --------------------------------------------
+
+
+def _run_impact(subjects: Mapping[str, Any], setup: Any, **store: Any) -> tuple[dict, Path]:
+    from batball.lab.impact_run import run_impact_test
+
+    return run_impact_test(subjects["ball"], setup, **store)
+
+
+def _run_compression(subjects: Mapping[str, Any], setup: Any, **store: Any) -> tuple[dict, Path]:
+    from batball.lab.compression_run import run_compression_test
+
+    return run_compression_test(subjects["ball"], setup, **store)
+
+
+def _run_props(subjects: Mapping[str, Any], setup: PropsSetup, *, runs_dir: Path, reuse: bool,
+               progress: Any = None) -> tuple[dict, Path]:  # fmt: skip
+    from batball.lab.props_run import run_props_test
+
+    return run_props_test(subjects["bat"], runs_dir=runs_dir, reuse=reuse,
+                          circumferential=setup.circumferential, axial_size=setup.axial_size,
+                          pivot=setup.pivot)  # fmt: skip
+
+
+def _run_modal(subjects: Mapping[str, Any], setup: ModalSetup, *, runs_dir: Path, reuse: bool,
+               progress: Any = None) -> tuple[dict, Path]:  # fmt: skip
+    from batball.lab.modal_run import run_modal_test
+
+    return run_modal_test(subjects["bat"], runs_dir=runs_dir, reuse=reuse, n_modes=setup.modes,
+                          circumferential=setup.circumferential, axial_size=setup.axial_size,
+                          insert=setup.insert)  # fmt: skip
+
+
+def _run_barrel(subjects: Mapping[str, Any], setup: BarrelSetup, *, runs_dir: Path, reuse: bool,
+                progress: Any = None) -> tuple[dict, Path]:  # fmt: skip
+    from batball.lab.barrel import BarrelTestOptions
+    from batball.lab.barrel_run import run_barrel_test, run_explicit_barrel_test
+
+    test = BarrelTestOptions(friction=setup.friction, platen_friction=setup.platen_friction)
+    if setup.solver == "static":
+        return run_barrel_test(subjects["bat"], runs_dir=runs_dir, reuse=reuse, options=test,
+                               ramp_steps=setup.ramp_steps, circumferential=setup.circumferential,
+                               axial_size=setup.axial_size)  # fmt: skip
+    from batball.lab.barrel_explicit import ExplicitBarrelOptions
+
+    ratio = {} if setup.hourglass_ratio is None else {"hourglass_ratio": setup.hourglass_ratio}
+    explicit = ExplicitBarrelOptions(shell=setup.shell or "mitc4", **ratio,
+                                     circumferential=setup.circumferential,
+                                     axial_size=setup.axial_size)  # fmt: skip
+    return run_explicit_barrel_test(subjects["bat"], runs_dir=runs_dir, options=test,
+                                    explicit=explicit, reuse=reuse)  # fmt: skip
+
+
+def _run_bbs(subjects: Mapping[str, Any], setup: Any, *, runs_dir: Path, reuse: bool,
+             progress: Any = None) -> tuple[dict, Path]:  # fmt: skip
+    from batball.lab.bbs_run import run_bbs_test
+
+    return run_bbs_test(subjects["bat"], subjects["ball"], setup, runs_dir=runs_dir, reuse=reuse)
+
+
+# --- the entries ----------------------------------------------------------------------------------
+
+_BALL_NUMERICS = (HOURGLASS_TYPE, HOURGLASS_COEFFICIENT, BULK_VISCOSITY, SOFT)
+
+
+def _impact_test(name: str, help: str, speed: str) -> LabTest:
+    return LabTest(
+        name=name, help=help, subjects=("ball",),
+        options=(SPEED.with_default(speed), DIVISIONS, *_BALL_NUMERICS, CONTACT_THRESHOLD,
+                 PRECISION),
+        build=_impact_builder(name), run=_run_impact, describe=describe.describe_impact,
+        history="history.csv", span=lambda setup: (setup.end_time, "ms"),
+    )  # fmt: skip
+
+
+COMPRESSION = LabTest(
+    name="compression",
+    help="ball compression: force at 0.25 in between flat plates at 1 in/min (ASTM F1888)",
+    subjects=("ball",),
+    options=(
+        Option("displacement", "0.25 in", "plate travel", dimension="length"),
+        Option("rate", "1 in/min", "plate speed", dimension="velocity"),
+        DIVISIONS, HOURGLASS_TYPE, HOURGLASS_COEFFICIENT,
+        Option("quasi_static_ratio", 60.0,
+               "loading time in radians of the mass-scaled squash mode", kind="float"),
+        Option("sfs", 1.0, "contact penalty scale SFS (foam balls need about 5)", kind="float"),
+    ),
+    build=_build_compression, run=_run_compression, describe=describe.describe_compression,
+    history="curve.csv", span=lambda setup: (setup.displacement / setup.rate, "s"),
+)  # fmt: skip
+
+PROPS = LabTest(
+    name="props",
+    help="weight, balance point and MOI about the 6-in pivot of a bat (ASTM F2398)",
+    subjects=("bat",), options=(*BAT_MESH, PIVOT),
+    build=lambda v: PropsSetup(**v), run=_run_props, describe=describe.describe_props,
+)  # fmt: skip
+
+MODAL = LabTest(
+    name="modal",
+    help="free-free modes of a bat: first two bending and hoop frequencies (seed Table 3)",
+    subjects=("bat",),
+    options=(
+        *BAT_MESH,
+        Option("modes", 30, "modes to compute, the six rigid-body modes included", kind="int"),
+        Option("insert", "contact", "the insert: contact, its pre-stressed fit sliding "
+               "frictionless (docs/modal.md), or bonded, tied to the barrel", kind="choice",
+               choices=("contact", "bonded")),
+    ),
+    build=lambda v: ModalSetup(**v), run=_run_modal, describe=describe.describe_modal,
+)  # fmt: skip
+
+BARREL = LabTest(
+    name="barrel",
+    help="interference-fit pre-stress and barrel compression of a bat (seed Table 2)",
+    subjects=("bat",),
+    options=(
+        *BAT_MESH,
+        Option("ramp_steps", 1, "static steps removing the insert's overlap (1: the fit is "
+               "linear and frictionless, so its end state does not depend on the path)",
+               kind="int"),
+        Option("friction", 0.0, "Coulomb coefficient between insert and barrel during the "
+               "squeeze (0, as the seed; the fit itself stays frictionless)", kind="float"),
+        Option("platen_friction", 0.0, "Coulomb coefficient between the platens and the "
+               "barrel (0, as the seed)", kind="float"),
+        Option("solver", "static", "static: linear MITC4 shells, penalty contact, small "
+               "displacements; explicit: shells relaxed at each travel, geometrically "
+               "nonlinear (docs/barrel.md)", kind="choice", choices=("static", "explicit")),
+        SHELL.with_default(None, "with solver explicit: mitc4 (default), the statics' MITC4 "
+                           "shells made co-rotational, or bt, the BBS test's one-point shells"),
+        HOURGLASS_RATIO.with_default(None, "with shell bt: hourglass ratio r of the one-point "
+                                     "shells, 0 < r <= 1 (default 1)"),
+    ),
+    build=lambda v: BarrelSetup(**v), run=_run_barrel, describe=describe.describe_barrel,
+    history="force_travel.csv",
+)  # fmt: skip
+
+BBS = LabTest(
+    name="bbs",
+    help="batted-ball speed: a ball fired at the bat pivoting 6 in from the knob (Table 9)",
+    subjects=("bat", "ball"),
+    options=(
+        *BAT_MESH, PIVOT,
+        SPEED.with_default("110 mph", "inbound ball speed"),
+        Option("pitch_speed", "25 mph", "BBS pitch speed v_p (ASA: 25 mph)",
+               dimension="velocity"),
+        Option("swing_speed", "85 mph", "BBS bat speed v_b (ASA: 85 mph)",
+               dimension="velocity"),
+        replace(DIVISIONS, aliases=("--ball-divisions",)),
+        Option("impact", "6 in", "impact point from the end cap", dimension="length"),
+        Option("pivot_band", "0.5 in", "half width of the rigid handle band at the pivot",
+               dimension="length"),
+        Option("end_time", "2 ms", "longest run (2 ms, as the seed)", dimension="time"),
+        Option("rigid_bat", False, "the bat as a rigid body on the pivot (verification)",
+               kind="flag"),
+        Option("mass_scaling", "barrel", "selective mass scaling of the shells below a target "
+               "step (LS-DYNA DT2MS < 0): barrel (the barrel's or the ball's step), off, or the "
+               "target step, e.g. '2e-7 s'", dimension="time",
+               words={"barrel": "barrel", "off": None}),
+        Option("insert_friction", 0.0, "Coulomb coefficient between insert and barrel during "
+               "the impact (0, as the seed; the fit is pressed frictionless)", kind="float"),
+        Option("bat_damping", "0 1/s", "damping c of the bat's deformation relative to its "
+               "rigid turn, e.g. '1000 1/s' (as LS-DYNA *DAMPING_RELATIVE; 0: none, as the "
+               "seed)", dimension="frequency"),
+        HOURGLASS_RATIO, SHELL, PRECISION,
+    ),
+    build=_build_bbs, run=_run_bbs, describe=describe.describe_bbs, history="history.csv",
+)  # fmt: skip
+
+#: Every virtual test on the protocol, keyed by the name users type.
+LAB_TESTS: dict[str, LabTest] = {
+    test.name: test
+    for test in (
+        _impact_test("ccor", "CCOR and dynamic stiffness against the 2.63-in half-cylinder "
+                     "(ASTM F2845)", "95 mph"),
+        _impact_test("cor", "COR against a rigid flat wall (ASTM F1887)", "60 mph"),
+        COMPRESSION, PROPS, MODAL, BARREL, BBS,
+    )
+}  # fmt: skip
+
+
+# --- the subjects ---------------------------------------------------------------------------------
+
+#: What each subject is when none is named: the embedded ball and bat of the seed study.
+SUBJECT_DEFAULTS = {"ball": "type1", "bat": "default"}
+
+#: One line for each subject's option.
+SUBJECT_HELP = {
+    "ball": "embedded ball (type1, type2, foam057, foam083) or a ball TOML file",
+    "bat": "embedded bat (default) or a bat TOML file",
+}
+
+
+def load_subject(kind: str, given: Any) -> Any:
+    """A ball or bat spec from a name, a path or an already loaded spec."""
+    from batball.specs import BallSpec, BatSpec, load_ball_spec, load_bat_spec
+
+    spec_type, load = {"ball": (BallSpec, load_ball_spec), "bat": (BatSpec, load_bat_spec)}[kind]
+    if isinstance(given, spec_type):
+        return given
+    if not isinstance(given, str | Path):
+        raise SpecError(kind, given, f"an embedded {kind}'s name, a TOML file's path or a "
+                        f"{spec_type.__name__}")  # fmt: skip
+    return load(given)
+
+
+def parse_options(options: tuple[Option, ...], values: Any) -> dict[str, Any]:
+    """The parsed values (SI) of ``options`` read by name from ``values`` (an argparse
+    namespace or any object with those attributes); a missing one takes its default."""
+    return {o.name: o.parse(getattr(values, o.name, o.default)) for o in options}
