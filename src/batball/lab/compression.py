@@ -41,6 +41,7 @@ import numpy as np
 from batball.contact.rigid import RigidPlane
 from batball.errors import SimulationError, SpecError
 from batball.lab.impact import ContactOptions, ball_body
+from batball.materials.base import BULK, G_INF
 from batball.mesh import Mesh
 from batball.solvers.explicit import (
     BALANCE,
@@ -148,7 +149,7 @@ def relaxed_hertz(constants: np.ndarray, radius: float, approach: float) -> tupl
     F = 4/3 E* sqrt(R) (d/2)^(3/2), E* = E / (1 - nu^2) with E, nu from K and G_inf
     (verification.md, Hertz; Johnson, Contact Mechanics, section 4.2).
     """
-    bulk, g_inf = float(constants[0]), float(constants[2])
+    bulk, g_inf = float(constants[BULK]), float(constants[G_INF])
     young = 9.0 * bulk * g_inf / (3.0 * bulk + g_inf)
     nu = (3.0 * bulk - 2.0 * g_inf) / (2.0 * (3.0 * bulk + g_inf))
     e_star = young / (1.0 - nu**2)
@@ -284,6 +285,6 @@ def run_compression_model(
     energies = run.energies[-1]
     external = abs(energies[ENERGY_COLUMNS.index("contact")])
     internal = energies[ENERGY_COLUMNS.index("internal")]
-    ratio = float(energies[0] / max(internal, 1e-300))
+    ratio = float(energies[ENERGY_COLUMNS.index("kinetic")] / max(internal, 1e-300))
     error = float(np.abs(run.energies[:, BALANCE]).max() / max(external, 1e-300))
     return run, grid, force, difference, float(sunk[at_end]), ratio, error

@@ -22,6 +22,7 @@ from batball.contact.rigid import (
 from batball.elements.hex8_block import check_precision
 from batball.errors import SimulationError, SpecError
 from batball.lab.measures import ImpactMeasures, measure_impact
+from batball.materials.base import BULK, G0
 from batball.materials.foam import FoamTable
 from batball.mesh import Mesh, boundary_faces, hex_volumes, make_ball_mesh
 from batball.solvers.explicit import (
@@ -183,7 +184,8 @@ def ball_body(
     density = ball.mass / float(hex_volumes(mesh.points, mesh.cells).sum())
     scaled = density * mass_scale
     first_dt = estimate_first_step(mesh, constants, scaled) * time_step_scale
-    nodes, stiffness = ball_contact_stiffness(mesh, float(constants[0]), scaled, contact, first_dt)
+    bulk = float(constants[BULK])
+    nodes, stiffness = ball_contact_stiffness(mesh, bulk, scaled, contact, first_dt)
     return BallBody(mesh, constants, density, nodes, stiffness, ball.material.foam_table())
 
 
@@ -209,7 +211,7 @@ def estimate_first_step(mesh: Mesh, constants: np.ndarray, density: float) -> fl
     """Stable element step of the undeformed mesh, min L_e / c [s] (before TSSFAC)."""
     from batball.mesh import characteristic_lengths
 
-    c = np.sqrt((constants[0] + 4.0 / 3.0 * constants[1]) / density)
+    c = np.sqrt((constants[BULK] + 4.0 / 3.0 * constants[G0]) / density)
     return float(characteristic_lengths(mesh.points, mesh.cells).min() / c)
 
 

@@ -31,6 +31,7 @@ from batball.units import IN, LBF, MPH, OZ
 from batball.version import __version__
 
 LBF_PER_IN = LBF / IN  # N/m
+HOURGLASS = ENERGY_COLUMNS.index("hourglass")
 
 
 def ball_test_inputs(ball: BallSpec, setup: Any) -> dict[str, Any]:
@@ -62,7 +63,7 @@ def summarise(result: ImpactResult, wall_seconds: float) -> dict[str, Any]:
         "ball": result.ball.name,
         "ball_mass_oz": run.mass / OZ,
         "energy_balance_error": float(np.abs(run.energies[:, BALANCE]).max() / kinetic0),
-        "hourglass_energy_fraction": float(run.energies[-1, 2] / kinetic0),
+        "hourglass_energy_fraction": float(run.energies[-1, HOURGLASS] / kinetic0),
         "initial_kinetic_energy_j": kinetic0,
         "n_cells": result.mesh.n_cells,
         "n_points": result.mesh.n_points,

@@ -31,6 +31,7 @@ from batball.errors import SpecError
 from batball.lab.impact import ContactOptions, ball_contact_stiffness, estimate_first_step
 from batball.lsdyna.cards import UnitSystem, unit_system
 from batball.lsdyna.deck import CardLine, KeywordBlock, read_keyword_file, split_fields
+from batball.materials.base import BULK
 from batball.mesh import Mesh
 from batball.solvers.explicit import (
     BALANCE,
@@ -583,7 +584,7 @@ def _contacts(
     """One batball contact per *CONTACT card: the solid side's surface against a rigid target."""
     if not deck.contacts:
         raise SpecError("deck", "no *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE", "a contact")
-    if len(solid_parts) > 1 and np.ptp(constants[:, 0]) > 0:
+    if len(solid_parts) > 1 and np.ptp(constants[:, BULK]) > 0:
         raise SpecError("solid parts", solid_parts, "one bulk modulus for the contact penalty")
     slsfac = deck.controls.get("CONTROL_CONTACT", {}).get("slsfac") or 0.1
     out: list[RigidContact] = []
@@ -607,7 +608,8 @@ def _contacts(
         )
         density = float(densities.max())
         first_dt = estimate_first_step(mesh, constants[0], density) * controls.time_step_scale
-        nodes, k = ball_contact_stiffness(mesh, float(constants[0, 0]), density, options, first_dt)
+        bulk = float(constants[0, BULK])
+        nodes, k = ball_contact_stiffness(mesh, bulk, density, options, first_dt)
         for name in ("sfsat", "sfsbt"):
             if c.get(name) not in (None, 1.0):
                 raise SpecError(f"*CONTACT.{name.upper()} at {c['where']}", c[name], "blank or 1")

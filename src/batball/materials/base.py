@@ -14,6 +14,10 @@ from batball.materials.parameters import Parameter
 #: Integer ids the element kernels dispatch on (one per pointwise update function).
 LAW_ID_VISCOELASTIC = 1
 
+#: Where the kernel constants (:meth:`MaterialLaw.kernel_constants`) hold the bulk modulus K, the
+#: instantaneous and long-term shear moduli G0 and G_inf (Pa) and the first decay rate (1/s).
+BULK, G0, G_INF, BETA = 0, 1, 2, 3
+
 
 @dataclass(frozen=True)
 class MaterialLaw(ABC):
@@ -51,7 +55,7 @@ class MaterialLaw(ABC):
     def wave_speed(self, values: Mapping[str, float], density: float) -> float:
         """Dilatational wave speed (m/s) from the stiffest (instantaneous) moduli."""
         constants = self.kernel_constants(values)
-        bulk, g0 = constants[0], constants[1]
+        bulk, g0 = constants[BULK], constants[G0]
         return float(np.sqrt((bulk + 4.0 * g0 / 3.0) / density))
 
 
