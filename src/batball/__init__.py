@@ -6,19 +6,8 @@ speed), and the measurements defined as the ASTM standards define them. SI float
 only at the edges (see :mod:`batball.units`). The functions below are :mod:`batball.api`.
 """
 
-from batball.api import (
-    Result,
-    barrel,
-    bbs,
-    ccor,
-    compression,
-    cor,
-    load_ball,
-    load_bat,
-    modal,
-    props,
-    run_test,
-)
+from typing import Any
+
 from batball.version import __version__
 
 __all__ = [
@@ -35,3 +24,13 @@ __all__ = [
     "props",
     "run_test",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """The API's names, imported on first use: ``import batball.errors`` (or the command line's
+    ``--version``) does not pay for NumPy, SciPy and Numba."""
+    if name in __all__:
+        from batball import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'batball' has no attribute {name!r}")

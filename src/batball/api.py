@@ -127,7 +127,8 @@ def run_test(
             or ``"bbs"``.
         runs_dir: the results store.
         reuse: reuse a stored run with the same inputs.
-        progress: called with the simulated time [s] as the run goes.
+        progress: called with the simulated time [s] as the run goes (ccor, cor and
+            compression; the other tests do not report it).
         arguments: the subjects (``ball``, ``bat``: names, paths or specs) and the test's
             options by name.
 

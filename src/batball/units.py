@@ -126,7 +126,7 @@ def _split(value: str | float | int | Any, dimension: str, *, field: str) -> tup
     quantity (of any registry) gives its magnitude and its unit's name."""
     if hasattr(value, "magnitude") and hasattr(value, "units") and not isinstance(value, str):
         try:
-            magnitude, unit = float(value.magnitude), str(value.units)
+            magnitude, unit = float(value.magnitude), format(value.units, "D")
         except (TypeError, ValueError):
             raise SpecError(field, value, allowed_text(dimension)) from None
         if not math.isfinite(magnitude) or (unit == "dimensionless" and dimension != unit):

@@ -19,6 +19,8 @@ from batball.lab.registry import (
     HOURGLASS_COEFFICIENT,
     HOURGLASS_TYPE,
     LAB_TESTS,
+    MODES,
+    PIVOT_BAND,
     PRECISION,
     SOFT,
     SPEED,
@@ -38,11 +40,10 @@ EXPORT_BALL_OPTIONS = (
 #: The bat options of ``batball export`` (modal, barrel, bbs).
 EXPORT_BAT_OPTIONS = (
     CIRCUMFERENTIAL, AXIAL_SIZE,
-    Option("modes", 30, "modal: modes, the six rigid-body modes included", kind="int"),
+    MODES,
     Option("orientation", 0.0, "barrel: bat rotation about its axis, 0 or 90 deg",
            kind="float"),
-    Option("pivot_band", "0.5 in", "bbs: half width of the rigid handle band at the pivot",
-           dimension="length"),
+    PIVOT_BAND,
 )  # fmt: skip
 
 
@@ -175,8 +176,6 @@ def run_bat_export(args: argparse.Namespace, ball_values: dict[str, Any]) -> int
     mesh = {k: bat_values[k] for k in ("circumferential", "axial_size")}
     common = {"units": args.units, "long": args.long}
     if args.test == "modal":
-        if bat_values["modes"] < 8:
-            raise SpecError("modes", args.modes, "an integer >= 8 (six rigid-body modes first)")
         text = modal_deck(spec, n_modes=bat_values["modes"], **common, **mesh)
     elif args.test == "barrel":
         from batball.lab.barrel import BarrelTestOptions

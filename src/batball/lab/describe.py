@@ -25,6 +25,7 @@ def describe_compression(s: dict[str, Any]) -> str:
         ]
     )
 
+
 def describe_modal(s: dict[str, Any]) -> str:
     """A short human report of a modal summary beside the seed's Table 3."""
     table = s["seed_table3"]
@@ -40,6 +41,7 @@ def describe_modal(s: dict[str, Any]) -> str:
     lines.append(f"  results in {s['run_folder']}")
     return "\n".join(lines)
 
+
 def describe_props(s: dict[str, Any]) -> str:
     """A short human report of a props summary, every number with its unit."""
     return "\n".join(
@@ -54,6 +56,7 @@ def describe_props(s: dict[str, Any]) -> str:
             f"  results in {s['run_folder']}",
         ]
     )
+
 
 def describe_impact(s: dict[str, Any]) -> str:
     """A short human report of an impact summary, every number with its unit."""
@@ -73,6 +76,7 @@ def describe_impact(s: dict[str, Any]) -> str:
         ]
     )
 
+
 def describe_barrel(s: dict[str, Any]) -> str:
     """A short human report of a barrel summary beside the seed's Table 2."""
     exp, seed = s["seed_table2"]["experiment"], s["seed_table2"]["seed_lsdyna"]
@@ -89,6 +93,7 @@ def describe_barrel(s: dict[str, Any]) -> str:
         f"{s['interference_pressure_thin_ring_psi']:.1f} psi)",
         f"  {s['n_shells']} shells, {s['wall_seconds']:.1f} s, results in {s['run_folder']}",
     ])  # fmt: skip
+
 
 def describe_bbs(s: dict[str, Any]) -> str:
     """A short human report of a batted-ball-speed summary, every number with its unit."""

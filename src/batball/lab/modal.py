@@ -91,8 +91,6 @@ class BatModes:
         return chosen[:count]
 
 
-
-
 def skew(vectors: np.ndarray) -> np.ndarray:
     """Cross-product matrices [d]x with [d]x a = d x a, (n, 3, 3) from (n, 3)."""
     out = np.zeros((vectors.shape[0], 3, 3))

@@ -99,10 +99,6 @@ def shell_mass_properties(
     return MassProperties(mass, float(centre[0]), moi_pivot, moi_cm, pivot)
 
 
-
-
-
-
 def bat_mass_properties(
     spec: BatSpec,
     *,

@@ -19,6 +19,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from batball.errors import SpecError
 from batball.units import parse_quantity
 
@@ -39,9 +41,9 @@ class Option:
         help: one line for ``--help`` and the API's docstrings.
         kind: one of :data:`OPTION_KINDS`.
         dimension: for a quantity, a dimension name of :data:`batball.units.DIMENSIONS`.
-        choices: for a choice, the allowed words; for a quantity, words also accepted in place
-            of a value (``mass_scaling``: "barrel", "off"), each mapped by ``words``.
-        words: what each accepted word of a quantity stands for (``{"off": None}``).
+        choices: for a choice, the allowed words.
+        words: for a quantity, words accepted in place of a value and what each stands for
+            (``mass_scaling``: ``{"barrel": "barrel", "off": None}``).
         check: a predicate on the parsed value (SI), with ``allowed`` saying it in words.
         aliases: older command-line spellings that still work (``--ball-divisions``).
     """
@@ -102,14 +104,20 @@ class Option:
 
     def _convert(self, value: Any) -> Any:
         if self.kind == "quantity":
-            if self.words and isinstance(value, str) and value.strip() in self.words:
-                return self.words[value.strip()]
             assert self.dimension is not None
-            return parse_quantity(value, self.dimension, field=self.field)
+            if not self.words:
+                return parse_quantity(value, self.dimension, field=self.field)
+            if isinstance(value, str) and value.strip().lower() in self.words:
+                return self.words[value.strip().lower()]
+            try:
+                return parse_quantity(value, self.dimension, field=self.field)
+            except SpecError as error:
+                words = " or ".join(repr(w) for w in self.words)
+                raise SpecError(self.field, value, f"{words}, or {error.allowed}") from None
         if self.kind == "flag":
-            if not isinstance(value, bool):
+            if not isinstance(value, bool | np.bool_):
                 raise SpecError(self.field, value, "True or False")
-            return value
+            return bool(value)
         if self.kind == "choice":
             if value not in self.choices:
                 raise SpecError(self.field, value, "one of " + ", ".join(self.choices))
@@ -120,7 +128,11 @@ class Option:
 def _number(value: Any, *, integer: bool, field: str) -> int | float:
     """An int (``integer``) or a finite float from a number or its text; bools are refused."""
     allowed = "an integer" if integer else "a finite number"
-    if isinstance(value, bool) or not isinstance(value, int | float | str):
+    if isinstance(value, bool | np.bool_):
+        raise SpecError(field, value, allowed)
+    if isinstance(value, np.integer | np.floating):
+        value = value.item()
+    if not isinstance(value, int | float | str):
         raise SpecError(field, value, allowed)
     try:
         number = int(value) if integer and not isinstance(value, float) else float(value)

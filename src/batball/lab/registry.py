@@ -51,19 +51,27 @@ SHELL = Option("shell", "bt", "the bat's explicit shells: bt, one-point Belytsch
 HOURGLASS_RATIO = Option("hourglass_ratio", None,
                          "hourglass ratio r of the bat's one-point shells, 0 < r <= 1 "
                          "(default LS-DYNA's 0.01)", kind="float")  # fmt: skip
+MODES = Option("modes", 30, "modes to compute, the six rigid-body modes included", kind="int",
+               check=lambda n: n >= 8,
+               allowed="an integer >= 8 (six rigid-body modes come first)")  # fmt: skip
+PIVOT_BAND = Option("pivot_band", "0.5 in", "half width of the rigid handle band at the pivot",
+                    dimension="length")  # fmt: skip
 BAT_MESH = (CIRCUMFERENTIAL, AXIAL_SIZE)
 
 
 # --- the Setups of the bat tests (the ball tests' live with their models) ------------------------
 
 
+# Their defaults are the options' (below); a Setup is made by its test's ``setup()``.
+
+
 @dataclass(frozen=True)
 class PropsSetup:
     """Mass properties (ASTM F2398): the shell mesh [count, m] and the pivot from the knob [m]."""
 
-    circumferential: int = 48
-    axial_size: float = 0.0254 * 0.1
-    pivot: float = 0.0254 * 6.0
+    circumferential: int
+    axial_size: float
+    pivot: float
 
 
 @dataclass(frozen=True)
@@ -71,42 +79,50 @@ class ModalSetup:
     """Free-free modes: the shell mesh, how many modes (six rigid ones first) and the insert's
     fit ("contact": the pre-stressed fit, sliding; "bonded": tied)."""
 
-    circumferential: int = 48
-    axial_size: float = 0.0254 * 0.1
-    modes: int = 30
-    insert: str = "contact"
-
-    def __post_init__(self) -> None:
-        if self.modes < 8:
-            raise SpecError("modes", self.modes, "an integer >= 8 (six rigid-body modes first)")
+    circumferential: int
+    axial_size: float
+    modes: int
+    insert: str
 
 
 @dataclass(frozen=True)
 class BarrelSetup:
-    """Barrel compression (seed Table 2): the shell mesh, the static ramp of the fit, Coulomb
-    friction insert-barrel and platens-barrel during the squeeze, and the solver ("static", or
-    "explicit" with its shell element and, for BT shells, hourglass ratio)."""
+    """Barrel compression (seed Table 2): the shell mesh, the static ramp of the fit, the
+    protocol (platens, travels, orientations, Coulomb friction insert-barrel and
+    platens-barrel), and for the explicit solver its options (None: the static solver)."""
 
-    circumferential: int = 48
-    axial_size: float = 0.0254 * 0.1
-    ramp_steps: int = 1
-    friction: float = 0.0
-    platen_friction: float = 0.0
-    solver: str = "static"
-    shell: str | None = None
-    hourglass_ratio: float | None = None
+    circumferential: int
+    axial_size: float
+    ramp_steps: int
+    protocol: Any
+    explicit: Any = None
 
-    def __post_init__(self) -> None:
-        if self.ramp_steps < 1:
-            raise SpecError("ramp-steps", self.ramp_steps, "an integer >= 1")
-        if self.solver == "explicit":
-            if self.hourglass_ratio is not None and self.shell != "bt":
-                raise SpecError("hourglass-ratio", self.hourglass_ratio,
-                                "only with --shell bt (MITC4 shells have none)")  # fmt: skip
-        elif self.shell is not None or self.hourglass_ratio is not None:
-            name, value = (("shell", self.shell) if self.shell is not None
-                           else ("hourglass-ratio", self.hourglass_ratio))  # fmt: skip
-            raise SpecError(name, value, "only with --solver explicit")
+
+def _build_barrel(values: Mapping[str, Any]) -> BarrelSetup:
+    """The barrel Setup, every value checked by the options it becomes."""
+    from batball.lab.barrel import BarrelTestOptions
+    from batball.lab.barrel_explicit import ExplicitBarrelOptions
+
+    if values["ramp_steps"] < 1:
+        raise SpecError("ramp-steps", values["ramp_steps"], "an integer >= 1")
+    shell, ratio = values["shell"], values["hourglass_ratio"]
+    explicit = None
+    if values["solver"] == "explicit":
+        if ratio is not None and shell != "bt":
+            raise SpecError("hourglass-ratio", ratio,
+                            "only with --shell bt (MITC4 shells have none)")  # fmt: skip
+        explicit = ExplicitBarrelOptions(
+            circumferential=values["circumferential"], axial_size=values["axial_size"],
+            shell=shell or "mitc4", **({} if ratio is None else {"hourglass_ratio": ratio}),
+        )  # fmt: skip
+    elif shell is not None or ratio is not None:
+        name, value = ("shell", shell) if shell is not None else ("hourglass-ratio", ratio)
+        raise SpecError(name, value, "only with --solver explicit")
+    protocol = BarrelTestOptions(friction=values["friction"],
+                                 platen_friction=values["platen_friction"])  # fmt: skip
+    return BarrelSetup(circumferential=values["circumferential"],
+                       axial_size=values["axial_size"], ramp_steps=values["ramp_steps"],
+                       protocol=protocol, explicit=explicit)  # fmt: skip
 
 
 # --- build: parsed option values -> Setup --------------------------------------------------------
@@ -121,8 +137,11 @@ def _ball_numerics(values: Mapping[str, Any]) -> dict[str, Any]:
         "hourglass": HourglassControl(
             type=values["hourglass_type"], coefficient=values["hourglass_coefficient"]
         ),
-        "bulk_viscosity": BulkViscosity(enabled=values.get("bulk_viscosity", True)),
-        "contact": ContactOptions(soft=values.get("soft", 0), sfs=values.get("sfs", 1.0)),
+        "bulk_viscosity": BulkViscosity(
+            **({} if "bulk_viscosity" not in values else {"enabled": values["bulk_viscosity"]})
+        ),
+        # each test declares the contact options it lets a user set; the rest keep their own
+        "contact": ContactOptions(**{k: values[k] for k in ("soft", "sfs") if k in values}),
     }
 
 
@@ -199,22 +218,15 @@ def _run_modal(subjects: Mapping[str, Any], setup: ModalSetup, *, runs_dir: Path
 
 def _run_barrel(subjects: Mapping[str, Any], setup: BarrelSetup, *, runs_dir: Path, reuse: bool,
                 progress: Any = None) -> tuple[dict, Path]:  # fmt: skip
-    from batball.lab.barrel import BarrelTestOptions
     from batball.lab.barrel_run import run_barrel_test, run_explicit_barrel_test
 
-    test = BarrelTestOptions(friction=setup.friction, platen_friction=setup.platen_friction)
-    if setup.solver == "static":
-        return run_barrel_test(subjects["bat"], runs_dir=runs_dir, reuse=reuse, options=test,
-                               ramp_steps=setup.ramp_steps, circumferential=setup.circumferential,
+    if setup.explicit is None:
+        return run_barrel_test(subjects["bat"], runs_dir=runs_dir, reuse=reuse,
+                               options=setup.protocol, ramp_steps=setup.ramp_steps,
+                               circumferential=setup.circumferential,
                                axial_size=setup.axial_size)  # fmt: skip
-    from batball.lab.barrel_explicit import ExplicitBarrelOptions
-
-    ratio = {} if setup.hourglass_ratio is None else {"hourglass_ratio": setup.hourglass_ratio}
-    explicit = ExplicitBarrelOptions(shell=setup.shell or "mitc4", **ratio,
-                                     circumferential=setup.circumferential,
-                                     axial_size=setup.axial_size)  # fmt: skip
-    return run_explicit_barrel_test(subjects["bat"], runs_dir=runs_dir, options=test,
-                                    explicit=explicit, reuse=reuse)  # fmt: skip
+    return run_explicit_barrel_test(subjects["bat"], runs_dir=runs_dir, options=setup.protocol,
+                                    explicit=setup.explicit, reuse=reuse)  # fmt: skip
 
 
 def _run_bbs(subjects: Mapping[str, Any], setup: Any, *, runs_dir: Path, reuse: bool,
@@ -268,7 +280,7 @@ MODAL = LabTest(
     subjects=("bat",),
     options=(
         *BAT_MESH,
-        Option("modes", 30, "modes to compute, the six rigid-body modes included", kind="int"),
+        MODES,
         Option("insert", "contact", "the insert: contact, its pre-stressed fit sliding "
                "frictionless (docs/modal.md), or bonded, tied to the barrel", kind="choice",
                choices=("contact", "bonded")),
@@ -297,7 +309,7 @@ BARREL = LabTest(
         HOURGLASS_RATIO.with_default(None, "with shell bt: hourglass ratio r of the one-point "
                                      "shells, 0 < r <= 1 (default 1)"),
     ),
-    build=lambda v: BarrelSetup(**v), run=_run_barrel, describe=describe.describe_barrel,
+    build=_build_barrel, run=_run_barrel, describe=describe.describe_barrel,
     history="force_travel.csv",
 )  # fmt: skip
 
@@ -314,8 +326,7 @@ BBS = LabTest(
                dimension="velocity"),
         replace(DIVISIONS, aliases=("--ball-divisions",)),
         Option("impact", "6 in", "impact point from the end cap", dimension="length"),
-        Option("pivot_band", "0.5 in", "half width of the rigid handle band at the pivot",
-               dimension="length"),
+        PIVOT_BAND,
         Option("end_time", "2 ms", "longest run (2 ms, as the seed)", dimension="time"),
         Option("rigid_bat", False, "the bat as a rigid body on the pivot (verification)",
                kind="flag"),

@@ -104,7 +104,7 @@ def lamina_cards(spec: BatSpec, u: UnitSystem) -> list[str]:
 
 def part_extra_mass(spec: BatSpec, mesh: ShellMesh) -> dict[str, float]:
     """Non-structural mass per area of each part, kg/m^2: its lumped mass over its mesh area
-    (what :func:`batball.lab.props.bat_areal_mass` spreads); 0 for the insert."""
+    (what :func:`batball.models.bat.bat_areal_mass` spreads); 0 for the insert."""
     areas = quad_areas(mesh.points, mesh.cells)
     extra = {p.name: p.lumped_mass / float(areas[mesh.cell_sets[p.name]].sum())
              for p in spec.parts}  # fmt: skip

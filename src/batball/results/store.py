@@ -188,15 +188,16 @@ def load_cached_summary(folder: Path) -> dict[str, Any] | None:
     """The run's summary if ``folder/summary.json`` exists, is a JSON object and is complete.
 
     Returns:
-        The summary dict, or None when the run must be (re)done: no file, unreadable or invalid
-        JSON, or no ``"complete": true``.
+        The summary dict as the run made it (without the store's ``"complete"`` marker, so a
+        reused run reports what a fresh one does), or None when the run must be (re)done: no
+        file, unreadable or invalid JSON, or no ``"complete": true``.
     """
     path = Path(folder) / SUMMARY_NAME
     try:
         summary = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError):
         return None
-    if not isinstance(summary, dict) or summary.get("complete") is not True:
+    if not isinstance(summary, dict) or summary.pop("complete", None) is not True:
         return None
     return summary
 
