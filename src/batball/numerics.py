@@ -36,7 +36,7 @@ def prefer_wide_vectors() -> str | None:
     heavy 512-bit code on early Skylake parts). The hex kernel's element loop is straight-line
     arithmetic on 16-element blocks (:mod:`batball.elements.hex8_block`); measured on this
     project's 2-core machine (Intel, model 167) the loop itself runs 20-25 % faster 8 wide
-    (benchmarks/RESULTS.md, issue 2). The setting only takes effect if Numba has not compiled
+    (benchmarks/RESULTS.md). The setting only takes effect if Numba has not compiled
     anything yet in this process (its code generator is created once); it is skipped where the
     user set ``NUMBA_CPU_FEATURES`` or ``BATBALL_VECTOR_WIDTH=256``. Numba's on-disk cache is
     keyed on the feature string, so code compiled either way is never mixed up.

@@ -1,4 +1,4 @@
-"""Calibration of ball material models against measured impact data (issue 4).
+"""Calibration of ball material models against measured impact data.
 
 Targets (measured CCOR, DS, peak force, contact time at given speeds) -> free parameters of a
 material law -> virtual impact runs in parallel, stored in a resumable SQLite study -> a

@@ -19,7 +19,7 @@ from batball.errors import SpecError
 DEFAULT_FREE: dict[str, tuple[str, ...]] = {
     "mat006": ("bulk_modulus", "g0", "g_inf", "beta"),
     "prony3": ("g_inf", "g1", "beta1", "g2", "beta2", "g3", "beta3"),
-    # foams (issue 5): the curves' level, the hysteresis and the viscous coefficient
+    # foams: the curves' level, the hysteresis and the viscous coefficient
     "mat057": ("curve_scale", "hu", "shape", "damp"),
     "mat083": ("curve_scale", "hu", "shape", "damp"),
 }

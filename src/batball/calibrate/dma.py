@@ -1,4 +1,4 @@
-"""The DMA route (issue 12): a Prony shear relaxation fitted to storage and loss moduli.
+"""The DMA route: a Prony shear relaxation fitted to storage and loss moduli.
 
 A DMA (dynamic mechanical analysis) CSV gives, per row, a frequency and the storage and loss
 moduli (or the storage modulus and tan delta), units in the column names::

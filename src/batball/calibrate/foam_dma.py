@@ -1,4 +1,4 @@
-"""A virtual DMA of a foam ball's material (MAT_057, MAT_083): E'(w), E''(w) (issue 12).
+"""A virtual DMA of a foam ball's material (MAT_057, MAT_083): E'(w), E''(w).
 
 A foam truth ball (docs/calibration-routes.md, "A foam truth") has no closed-form complex
 modulus: its loading curve is nonlinear, it unloads on a damaged curve (HU, SHAPE) and MAT_057

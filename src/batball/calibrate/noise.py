@@ -1,4 +1,4 @@
-"""Seeded measurement noise on a synthetic route data set (issue 12).
+"""Seeded measurement noise on a synthetic route data set.
 
 The synthetic data of :func:`batball.calibrate.routes.measure_synthetic` are exact: the truth's
 own virtual-test results and its exact DMA moduli. A lab's are not. :func:`write_noisy_data`

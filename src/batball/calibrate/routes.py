@@ -1,4 +1,4 @@
-"""The seed's three calibration routes and the batted-ball speed each predicts (issue 12).
+"""The seed's three calibration routes and the batted-ball speed each predicts.
 
 A *route* is a kind of ball data and the way a ball model is fitted to it:
 

@@ -1,4 +1,4 @@
-"""``batball compare-calibrations`` and ``batball synthetic-data`` (issue 12).
+"""``batball compare-calibrations`` and ``batball synthetic-data``.
 
 Import-light at module level (the CLI builds its parser from here).
 """

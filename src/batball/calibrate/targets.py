@@ -73,7 +73,7 @@ QUANTITIES: dict[str, Quantity] = {
         Quantity("peak_force", "ccor", "peak_force", "force", "lbf", 0.03),
         Quantity("contact_time", "ccor", "contact_time", "time", "ms", 0.05),
         Quantity("compression", "compression", "compression_fit", "force", "lbf", 0.05),
-        # the flat wall's peak force (ASTM F1887 rig with a load cell; issue 12's COR route)
+        # the flat wall's peak force (ASTM F1887 rig with a load cell; COR route)
         Quantity("wall_peak_force", "cor", "peak_force", "force", "lbf", 0.03),
     )
 }

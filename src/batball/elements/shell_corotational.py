@@ -1,4 +1,4 @@
-"""Explicit internal forces of the statics' MITC4 shell in a co-rotational frame (issue 8).
+"""Explicit internal forces of the statics' MITC4 shell in a co-rotational frame.
 
 The one-point Belytschko-Tsay shells (:mod:`batball.elements.shell_bt`) carry artificial
 hourglass stiffness that sets part of the answer under a nearly point load: the barrel test's

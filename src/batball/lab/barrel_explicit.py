@@ -1,4 +1,4 @@
-"""The barrel compression test run by the explicit shells: geometrically nonlinear (issue 8).
+"""The barrel compression test run by the explicit shells: geometrically nonlinear.
 
 The static test of :mod:`batball.lab.barrel` is linear: small displacements, contact normals
 fixed at first touch. The platens' 0.07 in of travel on a 1.1-in radius is not small (CalculiX's

@@ -1,4 +1,4 @@
-"""The explicit tests' stored interference fit (LS-DYNA's ``drdisp.sif``, issue 8).
+"""The explicit tests' stored interference fit (LS-DYNA's ``drdisp.sif``).
 
 The BBS test and the explicit barrel test press the insert into the barrel by dynamic
 relaxation (:func:`batball.solvers.ball_bat.relax_fit`) before they start; on the full-size bat

@@ -164,7 +164,7 @@ class BallBody:
     density: float
     nodes: np.ndarray
     stiffness: np.ndarray
-    foam: FoamTable | None = None  # a foam ball's packed material (issue 5)
+    foam: FoamTable | None = None  # a foam ball's packed material
 
 
 def ball_body(

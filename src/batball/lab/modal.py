@@ -3,7 +3,7 @@
 The bat's shells (MITC4, :mod:`batball.elements.shell_stiffness`) with each part's laminate and
 lumped mass; the 30 lowest modes by shift-invert Lanczos (:mod:`batball.solvers.modal`).
 
-**The insert**, two models (``insert=``). ``"contact"`` (the default, issue 8: every later test
+**The insert**, two models (``insert=``). ``"contact"`` (the default: every later test
 starts from the bat's pre-stressed state) and ``"bonded"``. ``"bonded"``: each insert node is tied
 rigidly to the barrel wall: its displacement is the barrel's (linearly interpolated between the
 two nearest barrel rings at the same angle) plus the barrel rotation times the radial offset

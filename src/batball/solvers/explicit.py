@@ -372,7 +372,7 @@ class ExplicitSolver:
     def element_forces(self) -> None:
         """Stress update and element nodal forces from x^n and v^(n-1/2)."""
         s, w, m, c = self.state, self.work, self.model, self.controls.hourglass
-        if m.foam is not None:  # foam hook (issue 5): a foam body has its own element kernel
+        if m.foam is not None:  # a foam body has its own element kernel
             foam_element_forces(m, s.points, s.velocities, s.dt, w, s.foam_history, s.hg_state, c)
             return
         compute_hex8_forces(

@@ -53,7 +53,7 @@ from batball.units import allowed_text, format_quantity, parse_quantity
 EMBEDDED_BALLS: tuple[str, ...] = ("type1", "type2")
 
 #: Example balls shipped as package data beside the seed's: foam balls for MAT_057 and MAT_083
-#: (their files say where the numbers come from; issue 5).
+#: (their files say where the numbers come from).
 EXAMPLE_BALLS: tuple[str, ...] = ("foam057", "foam083")
 
 #: Keys of one ``[[material.curves]]`` table of a foam ball.
