@@ -32,7 +32,7 @@ from batball.report.seed_comparison import (
 )
 from batball.results.store import load_cached_summary, write_json_atomic, write_text_atomic
 from batball.specs import BallSpec, BatSpec, load_ball_spec, load_bat_spec, load_seed_tables
-from batball.units import IN, MPH, PSI
+from batball.units import IN, PSI
 
 
 @dataclass(frozen=True)
@@ -186,22 +186,37 @@ def timed_run(
     return summary, folder, reused, seconds
 
 
+def lab_run(
+    inputs: Inputs, label: str, name: str, subjects: dict[str, Any], **options: Any
+) -> tuple[dict[str, Any], Path, bool, float]:
+    """Run (or reuse) the registry's test ``name`` with ``options`` (SI lengths as metres,
+    :func:`metres`), timed as :func:`timed_run` times it: the same run ``batball <name>`` makes
+    with those options."""
+    from batball.lab.registry import LAB_TESTS
+
+    test = LAB_TESTS[name]
+    setup = test.setup(**options)
+    return timed_run(
+        inputs, label,
+        lambda: test.run(subjects, setup, runs_dir=inputs.options.runs_dir,
+                         reuse=inputs.options.reuse, progress=None),
+    )  # fmt: skip
+
+
+def metres(value: float) -> Any:
+    """A length in metres as a quantity, for a registry option (which takes no bare number)."""
+    from batball.units import unit_registry
+
+    return unit_registry().Quantity(value, "m")
+
+
 def run_props(inputs: Inputs) -> RunnerOutput:
     """Table 1: weight, balance point and MOI of the bat (ASTM F2398)."""
-    from batball.lab.props_run import run_props_test
-
     m = inputs.options.meshes
-    summary, folder, reused, seconds = timed_run(
-        inputs,
-        "props (bat)",
-        lambda: run_props_test(
-            inputs.bat,
-            runs_dir=inputs.options.runs_dir,
-            reuse=inputs.options.reuse,
-            circumferential=m.bat_circumferential,
-            axial_size=m.bat_axial_size,
-        ),
-    )
+    summary, folder, reused, seconds = lab_run(
+        inputs, "props (bat)", "props", {"bat": inputs.bat},
+        circumferential=m.bat_circumferential, axial_size=metres(m.bat_axial_size),
+    )  # fmt: skip
     values = {
         "props/weight": summary["weight_oz"],
         "props/moi": summary["moi_pivot_oz_in2"],
@@ -218,20 +233,11 @@ def run_props(inputs: Inputs) -> RunnerOutput:
 
 def run_modal(inputs: Inputs) -> RunnerOutput:
     """Table 3: the bat's first two free-free bending and hoop frequencies."""
-    from batball.lab.modal_run import run_modal_test
-
     m = inputs.options.meshes
-    summary, folder, reused, seconds = timed_run(
-        inputs,
-        "modal (bat)",
-        lambda: run_modal_test(
-            inputs.bat,
-            runs_dir=inputs.options.runs_dir,
-            reuse=inputs.options.reuse,
-            circumferential=m.bat_circumferential,
-            axial_size=m.bat_axial_size,
-        ),
-    )
+    summary, folder, reused, seconds = lab_run(
+        inputs, "modal (bat)", "modal", {"bat": inputs.bat},
+        circumferential=m.bat_circumferential, axial_size=metres(m.bat_axial_size),
+    )  # fmt: skip
     values = {}
     for kind in ("bending", "hoop"):
         for k, frequency in enumerate(summary[f"{kind}_hz"][:2]):
@@ -331,8 +337,6 @@ def run_calibrate(inputs: Inputs) -> RunnerOutput:
 
 def run_ccor(inputs: Inputs) -> RunnerOutput:
     """Tables 5-8: each ball at 95 and 110 mph against the rigid half-cylinder (ASTM F2845)."""
-    from batball.lab.impact import ImpactSetup
-    from batball.lab.impact_run import run_impact_test
     from batball.report.reproduce_figures import plot_energy_histories, plot_force_time_cases
 
     runs = []
@@ -340,16 +344,10 @@ def run_ccor(inputs: Inputs) -> RunnerOutput:
         for name, mph in BALL_CASES:
             if name != ball.name:
                 continue
-            setup = ImpactSetup(
-                test="ccor", speed=mph * MPH, divisions=inputs.options.meshes.ball_divisions
-            )
-            summary, folder, reused, seconds = timed_run(
-                inputs,
-                f"ccor {ball.name} at {mph} mph",
-                lambda b=ball, s=setup: run_impact_test(  # type: ignore[misc]
-                    b, s, runs_dir=inputs.options.runs_dir, reuse=inputs.options.reuse
-                ),
-            )
+            summary, folder, reused, seconds = lab_run(
+                inputs, f"ccor {ball.name} at {mph} mph", "ccor", {"ball": ball},
+                speed=f"{mph} mph", divisions=inputs.options.meshes.ball_divisions,
+            )  # fmt: skip
             case = f"{ball.name}/{mph}mph"
             values = {
                 f"ccor/{case}": summary["ccor"],
@@ -378,20 +376,11 @@ def run_ccor(inputs: Inputs) -> RunnerOutput:
 
 def run_barrel(inputs: Inputs) -> RunnerOutput:
     """Table 2: interference pre-stress, then barrel compression at four orientations."""
-    from batball.lab.barrel_run import run_barrel_test
-
     m = inputs.options.meshes
-    summary, folder, reused, seconds = timed_run(
-        inputs,
-        "barrel compression (bat)",
-        lambda: run_barrel_test(
-            inputs.bat,
-            runs_dir=inputs.options.runs_dir,
-            reuse=inputs.options.reuse,
-            circumferential=m.barrel_circumferential,
-            axial_size=m.barrel_axial_size,
-        ),
-    )
+    summary, folder, reused, seconds = lab_run(
+        inputs, "barrel compression (bat)", "barrel", {"bat": inputs.bat},
+        circumferential=m.barrel_circumferential, axial_size=metres(m.barrel_axial_size),
+    )  # fmt: skip
     values = {
         "barrel/preload": summary["preload_lbf"],
         "barrel/final_load": summary["final_load_lbf"],
@@ -415,22 +404,12 @@ def run_barrel(inputs: Inputs) -> RunnerOutput:
 
 def run_compression(inputs: Inputs) -> RunnerOutput:
     """Ball compression (ASTM F1888) of each ball; the seed publishes no values to compare."""
-    try:
-        from batball.lab.compression import CompressionSetup
-        from batball.lab.compression_run import run_compression_test
-    except ImportError as exc:
-        reason = f"the compression test is not in this installation ({exc})"
-        raise NotYetAvailableError(reason) from exc
     runs = []
     for ball in inputs.balls:
-        setup = CompressionSetup(divisions=inputs.options.meshes.ball_divisions)
-        summary, folder, reused, seconds = timed_run(
-            inputs,
-            f"compression {ball.name}",
-            lambda b=ball, s=setup: run_compression_test(  # type: ignore[misc]
-                b, s, runs_dir=inputs.options.runs_dir, reuse=inputs.options.reuse
-            ),
-        )
+        summary, folder, reused, seconds = lab_run(
+            inputs, f"compression {ball.name}", "compression", {"ball": ball},
+            divisions=inputs.options.meshes.ball_divisions,
+        )  # fmt: skip
         figure = ReportFigure(
             folder / "force_displacement.png",
             f"compression_{ball.name}.png",
@@ -453,9 +432,6 @@ def run_compression(inputs: Inputs) -> RunnerOutput:
 
 def run_batted_ball_speed(inputs: Inputs) -> RunnerOutput:
     """Table 9: each ball fired at 95 and 110 mph at the bat pivoting 6 in from the knob."""
-    from batball.lab.bbs import BbsSetup
-    from batball.lab.bbs_run import run_bbs_test
-
     sizes = inputs.options.meshes.bbs
     if sizes is None:
         raise SkippedError(
@@ -468,15 +444,11 @@ def run_batted_ball_speed(inputs: Inputs) -> RunnerOutput:
         for name, mph in BALL_CASES:
             if name != ball.name:
                 continue
-            setup = BbsSetup(speed=mph * MPH, ball_divisions=sizes[0],
-                             circumferential=sizes[1], axial_size=sizes[2])  # fmt: skip
-            summary, folder, reused, seconds = timed_run(
-                inputs,
-                f"bbs {ball.name} at {mph} mph",
-                lambda b=ball, s=setup: run_bbs_test(  # type: ignore[misc]
-                    inputs.bat, b, s, runs_dir=inputs.options.runs_dir, reuse=inputs.options.reuse
-                ),
-            )
+            summary, folder, reused, seconds = lab_run(
+                inputs, f"bbs {ball.name} at {mph} mph", "bbs", {"bat": inputs.bat, "ball": ball},
+                speed=f"{mph} mph", divisions=sizes[0], circumferential=sizes[1],
+                axial_size=metres(sizes[2]),
+            )  # fmt: skip
             figure = ReportFigure(
                 folder / "force_time.png",
                 f"bbs_{ball.name}_{mph}mph.png",
