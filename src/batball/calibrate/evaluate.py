@@ -93,14 +93,17 @@ def run_request(request: RunRequest) -> dict[str, Any]:
     A ball that never rebounds or a solver failure is an outcome (the candidate is infeasible),
     not an exception, so that it is stored like any other and never run again.
     """
-    from batball.lab.impact import ImpactSetup, run_impact
+    from batball.lab.impact import run_impact
+    from batball.lab.registry import LAB_TESTS
+    from batball.units import unit_registry
 
     start = time.perf_counter()
     try:
         if request.test == "compression":
             measures = compression_measures(request.ball, request.divisions)
         else:
-            setup = ImpactSetup(test=request.test, speed=request.speed, divisions=request.divisions)
+            speed = unit_registry().Quantity(request.speed, "m/s")
+            setup = LAB_TESTS[request.test].setup(speed=speed, divisions=request.divisions)
             measures = asdict(run_impact(request.ball, setup).measures)
     except (SimulationError, SpecError, FloatingPointError) as exc:
         return {"error": str(exc), "seconds": time.perf_counter() - start}
@@ -115,9 +118,11 @@ def compression_measures(ball: BallSpec, divisions: int) -> dict[str, float]:
     surface nodes reach the plates, noise a least-squares fit should not chase);
     ``compression``: that single reading [N]; the quasi-static checks beside them.
     """
-    from batball.lab.compression import CompressionSetup, run_compression
+    from batball.lab.compression import run_compression
+    from batball.lab.registry import LAB_TESTS
 
-    setup = CompressionSetup(divisions=divisions, quasi_static_ratio=COMPRESSION_RATIO)
+    setup = LAB_TESTS["compression"].setup(divisions=divisions,
+                                           quasi_static_ratio=COMPRESSION_RATIO)  # fmt: skip
     result = run_compression(ball, setup)
     return {
         "compression_fit": result.compression_fit,
