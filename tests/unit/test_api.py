@@ -66,6 +66,12 @@ def test_one_flag_name_means_one_thing() -> None:
     for name in ("modal", "barrel"):
         with pytest.raises(SystemExit):
             parser.parse_args([name, "--pivot", "6 in"])
+    # the ball's hourglass control is set the same way in the cylinder and the bat test
+    for name in ("ccor", "bbs"):
+        args = parser.parse_args([name, "--hourglass-type", "4", "--hourglass-coefficient", "0.01"])
+        test = LAB_TESTS[name]
+        setup = test.setup(**{o.name: getattr(args, o.name) for o in test.options})
+        assert (setup.hourglass.type, setup.hourglass.coefficient) == (4, 0.01)
 
 
 def test_version(capsys: pytest.CaptureFixture[str]) -> None:

@@ -170,6 +170,7 @@ def _build_bbs(values: Mapping[str, Any]) -> Any:
     from batball.lab.bbs import BbsSetup
 
     ratio = values["hourglass_ratio"]
+    hourglass = _ball_numerics(values)["hourglass"]
     return BbsSetup(
         speed=values["speed"], pitch_speed=values["pitch_speed"],
         swing_speed=values["swing_speed"], impact_from_cap=values["impact"],
@@ -178,7 +179,7 @@ def _build_bbs(values: Mapping[str, Any]) -> Any:
         axial_size=values["axial_size"], rigid_bat=values["rigid_bat"],
         end_time=values["end_time"], mass_scaling=values["mass_scaling"],
         precision=values["precision"], insert_friction=values["insert_friction"],
-        bat_damping=values["bat_damping"], bat_shell=values["shell"],
+        bat_damping=values["bat_damping"], bat_shell=values["shell"], hourglass=hourglass,
         **({} if ratio is None else {"shell_hourglass_ratio": ratio}),
     )  # fmt: skip
 
@@ -339,7 +340,10 @@ BBS = LabTest(
         Option("bat_damping", "0 1/s", "damping c of the bat's deformation relative to its "
                "rigid turn, e.g. '1000 1/s' (as LS-DYNA *DAMPING_RELATIVE; 0: none, as the "
                "seed)", dimension="frequency"),
-        HOURGLASS_RATIO, SHELL, PRECISION,
+        HOURGLASS_RATIO, SHELL,
+        replace(HOURGLASS_TYPE, help="the ball's hourglass control, LS-DYNA IHQ 1-5"),
+        replace(HOURGLASS_COEFFICIENT, help="the ball's QH/QM"),
+        PRECISION,
     ),
     build=_build_bbs, run=_run_bbs, describe=describe.describe_bbs, history="history.csv",
 )  # fmt: skip
