@@ -191,16 +191,21 @@ def lab_run(
 ) -> tuple[dict[str, Any], Path, bool, float]:
     """Run (or reuse) the registry's test ``name`` with ``options`` (SI lengths as metres,
     :func:`metres`), timed as :func:`timed_run` times it: the same run ``batball <name>`` makes
-    with those options."""
+    with those options. A test whose modules are not in this installation is not yet available.
+    """
     from batball.lab.registry import LAB_TESTS
 
     test = LAB_TESTS[name]
     setup = test.setup(**options)
-    return timed_run(
-        inputs, label,
-        lambda: test.run(subjects, setup, runs_dir=inputs.options.runs_dir,
-                         reuse=inputs.options.reuse, progress=None),
-    )  # fmt: skip
+    try:
+        return timed_run(
+            inputs, label,
+            lambda: test.run(subjects, setup, runs_dir=inputs.options.runs_dir,
+                             reuse=inputs.options.reuse, progress=None),
+        )  # fmt: skip
+    except ModuleNotFoundError as exc:
+        reason = f"the {name} test is not in this installation ({exc})"
+        raise NotYetAvailableError(reason) from exc
 
 
 def metres(value: float) -> Any:
