@@ -68,6 +68,8 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         "mass_scaling": setup.mass_scaling,
         "insert_friction": setup.insert_friction,
         "bat_shell": setup.bat_shell,
+        "ball_hourglass_type": setup.hourglass.type,
+        "ball_hourglass_coefficient": setup.hourglass.coefficient,
         "added_mass_g": float(result.model.added_mass.sum() * 1e3),
         "added_mass_percent": float(
             100 * result.model.added_mass.sum() / result.model.coupled.bat.mass[:, 0].sum()
