@@ -15,6 +15,8 @@ from batball.lab.registry import (
     AXIAL_SIZE,
     BULK_VISCOSITY,
     CIRCUMFERENTIAL,
+    CONTACT_THRESHOLD,
+    DISPLACEMENT,
     DIVISIONS,
     HOURGLASS_COEFFICIENT,
     HOURGLASS_TYPE,
@@ -45,6 +47,15 @@ EXPORT_BAT_OPTIONS = (
            kind="float"),
     PIVOT_BAND,
 )  # fmt: skip
+
+
+#: The options of ``batball run`` shared with the tests: the contact-time level, where a
+#: compression deck's force is read, the ball's arithmetic.
+DECK_RUN_OPTIONS = (
+    CONTACT_THRESHOLD,
+    DISPLACEMENT.with_default("0.25 in", "compression decks: where the force is read"),
+    PRECISION,
+)
 
 
 def add_export_parser(sub: Any) -> None:
@@ -103,11 +114,7 @@ def add_run_deck_parser(sub: Any) -> None:
         help="stop this long after the ball leaves the target (0.1 ms; bbs decks 0.2 ms, as "
         "batball bbs; 'none' runs an impact deck to ENDTIM)",
     )
-    p.add_argument("--contact-threshold", type=float, default=0.01, help="contact-time level")
-    p.add_argument(
-        "--displacement", default="0.25 in", help="compression decks: where the force is read"
-    )
-    add_options(p, (PRECISION,))
+    add_options(p, DECK_RUN_OPTIONS)
     add_json_option(p)
     p.set_defaults(handler=run_deck_command)
 
@@ -125,7 +132,8 @@ def run_deck_command(args: argparse.Namespace) -> int:
         if text.strip().lower() == "none"
         else parse_quantity(text, "time", field="separation-time")
     )
-    displacement = parse_quantity(args.displacement, "length", field="displacement")
+    values = parse_options(DECK_RUN_OPTIONS, args)
+    displacement = values["displacement"]
     deck = read_deck(
         args.deck, units=args.units, separation_time=separation, displacement=displacement,
         precision=args.precision,
@@ -133,7 +141,7 @@ def run_deck_command(args: argparse.Namespace) -> int:
     unit = "s" if deck.test == "compression" else "ms"
     update, bar = progress_bar(deck.controls.end_time, enabled=True, unit=unit)
     try:
-        summary = run_deck(deck, threshold=args.contact_threshold, progress=update)
+        summary = run_deck(deck, threshold=values["contact_threshold"], progress=update)
     finally:
         bar.close()
     summary["deck"] = str(args.deck)

@@ -36,6 +36,9 @@ PRECISION = Option("precision", "single",
                    "double (they agree to about 1e-6 in CCOR, docs/precision.md)",
                    kind="choice", choices=("single", "double"))  # fmt: skip
 
+DISPLACEMENT = Option("displacement", "0.25 in", "plate travel: where the compression is read",
+                      dimension="length")  # fmt: skip
+
 # --- bat options --------------------------------------------------------------------------------
 
 CIRCUMFERENTIAL = Option("circumferential", 48,
@@ -257,7 +260,7 @@ COMPRESSION = LabTest(
     help="ball compression: force at 0.25 in between flat plates at 1 in/min (ASTM F1888)",
     subjects=("ball",),
     options=(
-        Option("displacement", "0.25 in", "plate travel", dimension="length"),
+        DISPLACEMENT,
         Option("rate", "1 in/min", "plate speed", dimension="velocity"),
         DIVISIONS, HOURGLASS_TYPE, HOURGLASS_COEFFICIENT,
         Option("quasi_static_ratio", 60.0,
