@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from batball.errors import SpecError
 from batball.lab.protocol import LabTest
 from batball.lab.registry import LAB_TESTS, SUBJECT_DEFAULTS, load_subject
 from batball.specs import BallSpec, BatSpec
@@ -137,8 +138,6 @@ def run_test(
             anything runs).
         SimulationError: a numerical failure during the run.
     """
-    from batball.errors import SpecError
-
     if name not in LAB_TESTS:
         raise SpecError("test", name, "one of " + ", ".join(LAB_TESTS))
     test = LAB_TESTS[name]

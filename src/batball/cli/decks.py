@@ -26,6 +26,7 @@ from batball.lab.registry import (
     PRECISION,
     SOFT,
     SPEED,
+    ball_numerics,
     load_subject,
     parse_options,
 )
@@ -84,13 +85,11 @@ def run_export_command(args: argparse.Namespace) -> int:
     ball = load_subject("ball", args.ball)
     if args.test == "compression":
         from batball.lab.compression import CompressionSetup
-        from batball.solvers.explicit import BulkViscosity, HourglassControl
 
-        setup: Any = CompressionSetup(
-            divisions=values["divisions"],
-            hourglass=HourglassControl(values["hourglass_type"], values["hourglass_coefficient"]),
-            bulk_viscosity=BulkViscosity(enabled=values["bulk_viscosity"]),
-        )
+        numerics = ball_numerics(values)
+        setup: Any = CompressionSetup(divisions=values["divisions"],
+                                      hourglass=numerics["hourglass"],
+                                      bulk_viscosity=numerics["bulk_viscosity"])  # fmt: skip
         what = "compression (F1888, 1 in/min to 0.25 in)"
     else:
         test = LAB_TESTS[args.test]
@@ -202,17 +201,13 @@ def run_bat_export(args: argparse.Namespace, ball_values: dict[str, Any]) -> int
 def bat_export_bbs_setup(values: dict[str, Any], pivot_band: float, mesh: dict[str, Any]) -> Any:
     """The BbsSetup of ``batball export bbs``'s options (speed default: the bbs test's)."""
     from batball.lab.bbs import BbsSetup
-    from batball.lab.impact import ContactOptions
-    from batball.solvers.explicit import BulkViscosity, HourglassControl
 
     speed = values["speed"]
     if speed is None:
-        speed = LAB_TESTS["bbs"].option("speed").parse(LAB_TESTS["bbs"].option("speed").default)
+        speed = LAB_TESTS["bbs"].option("speed").default_value
     return BbsSetup(
         speed=speed, ball_divisions=values["divisions"], pivot_band=pivot_band,
-        hourglass=HourglassControl(values["hourglass_type"], values["hourglass_coefficient"]),
-        bulk_viscosity=BulkViscosity(enabled=values["bulk_viscosity"]),
-        contact=ContactOptions(soft=values["soft"]), **mesh,
+        **ball_numerics(values), **mesh,
     )  # fmt: skip
 
 

@@ -85,6 +85,11 @@ class Option:
             return self.help + (" (on by default)" if self.default else " (off by default)")
         return self.help + ("" if self.default is None else f" (default {self.default!r})")
 
+    @property
+    def default_value(self) -> Any:
+        """The default, parsed (SI for a quantity)."""
+        return self.parse(self.default)
+
     def with_default(self, default: Any, help: str | None = None) -> Option:
         """The same option with another default (a test's own speed, say)."""
         return replace(self, default=default, help=self.help if help is None else help)

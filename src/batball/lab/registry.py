@@ -63,9 +63,7 @@ BAT_MESH = (CIRCUMFERENTIAL, AXIAL_SIZE)
 
 
 # --- the Setups of the bat tests (the ball tests' live with their models) ------------------------
-
-
-# Their defaults are the options' (below); a Setup is made by its test's ``setup()``.
+# No defaults of their own: those are the options'; a Setup is made by its test's ``setup()``.
 
 
 @dataclass(frozen=True)
@@ -106,8 +104,6 @@ def _build_barrel(values: Mapping[str, Any]) -> BarrelSetup:
     from batball.lab.barrel import BarrelTestOptions
     from batball.lab.barrel_explicit import ExplicitBarrelOptions
 
-    if values["ramp_steps"] < 1:
-        raise SpecError("ramp-steps", values["ramp_steps"], "an integer >= 1")
     shell, ratio = values["shell"], values["hourglass_ratio"]
     explicit = None
     if values["solver"] == "explicit":
@@ -131,8 +127,9 @@ def _build_barrel(values: Mapping[str, Any]) -> BarrelSetup:
 # --- build: parsed option values -> Setup --------------------------------------------------------
 
 
-def _ball_numerics(values: Mapping[str, Any]) -> dict[str, Any]:
-    """The hourglass, bulk-viscosity and contact settings of a ball test's options."""
+def ball_numerics(values: Mapping[str, Any]) -> dict[str, Any]:
+    """The ``hourglass``, ``bulk_viscosity`` and ``contact`` settings of a ball's parsed options
+    (those not given keep their own defaults), for any Setup that holds a ball."""
     from batball.lab.impact import ContactOptions
     from batball.solvers.explicit import BulkViscosity, HourglassControl
 
@@ -154,7 +151,7 @@ def _impact_builder(test: str) -> Any:
 
         return ImpactSetup(test=test, speed=values["speed"], divisions=values["divisions"],
                            contact_threshold=values["contact_threshold"],
-                           precision=values["precision"], **_ball_numerics(values))  # fmt: skip
+                           precision=values["precision"], **ball_numerics(values))  # fmt: skip
 
     return build
 
@@ -162,7 +159,7 @@ def _impact_builder(test: str) -> Any:
 def _build_compression(values: Mapping[str, Any]) -> Any:
     from batball.lab.compression import CompressionSetup
 
-    numerics = _ball_numerics(values)
+    numerics = ball_numerics(values)
     return CompressionSetup(displacement=values["displacement"], rate=values["rate"],
                             divisions=values["divisions"], hourglass=numerics["hourglass"],
                             quasi_static_ratio=values["quasi_static_ratio"],
@@ -173,7 +170,6 @@ def _build_bbs(values: Mapping[str, Any]) -> Any:
     from batball.lab.bbs import BbsSetup
 
     ratio = values["hourglass_ratio"]
-    hourglass = _ball_numerics(values)["hourglass"]
     return BbsSetup(
         speed=values["speed"], pitch_speed=values["pitch_speed"],
         swing_speed=values["swing_speed"], impact_from_cap=values["impact"],
@@ -182,7 +178,8 @@ def _build_bbs(values: Mapping[str, Any]) -> Any:
         axial_size=values["axial_size"], rigid_bat=values["rigid_bat"],
         end_time=values["end_time"], mass_scaling=values["mass_scaling"],
         precision=values["precision"], insert_friction=values["insert_friction"],
-        bat_damping=values["bat_damping"], bat_shell=values["shell"], hourglass=hourglass,
+        bat_damping=values["bat_damping"], bat_shell=values["shell"],
+        hourglass=ball_numerics(values)["hourglass"],
         **({} if ratio is None else {"shell_hourglass_ratio": ratio}),
     )  # fmt: skip
 
@@ -300,7 +297,7 @@ BARREL = LabTest(
         *BAT_MESH,
         Option("ramp_steps", 1, "static steps removing the insert's overlap (1: the fit is "
                "linear and frictionless, so its end state does not depend on the path)",
-               kind="int"),
+               kind="int", check=lambda n: n >= 1, allowed="an integer >= 1"),
         Option("friction", 0.0, "Coulomb coefficient between insert and barrel during the "
                "squeeze (0, as the seed; the fit itself stays frictionless)", kind="float"),
         Option("platen_friction", 0.0, "Coulomb coefficient between the platens and the "
