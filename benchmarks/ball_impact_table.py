@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import argparse
 
-from batball.lab.impact import ImpactSetup, run_impact
+from batball.lab.impact import run_impact
+from batball.models.impact import ImpactSetup
 from batball.solvers.explicit import HourglassControl
 from batball.specs import load_ball_spec
 from batball.specs.seed import load_seed_tables

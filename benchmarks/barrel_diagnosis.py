@@ -26,16 +26,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from batball.contact.shell_contact import PenaltyGaps
-from batball.lab.barrel import (
-    IN,
+from batball.lab.barrel import IN, compress_barrel, condensed_compression, insert_friction
+from batball.models.barrel import (
     BarrelModel,
     BarrelTestOptions,
     build_barrel_model,
-    compress_barrel,
     compute_prestress,
-    condensed_compression,
     contact_areas,
-    insert_friction,
     platen_gaps,
 )
 from batball.specs import load_bat_spec

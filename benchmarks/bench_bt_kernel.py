@@ -20,7 +20,8 @@ import numba as nb
 import numpy as np
 
 from batball.elements.shell_bt import HOURGLASS_RATIO, bt_force_kernel, initial_force_state
-from batball.lab.bbs import IN, BbsSetup, build_bbs_model
+from batball.lab.bbs import IN
+from batball.models.bbs import BbsSetup, build_bbs_model
 from batball.specs import load_ball_spec, load_bat_spec
 
 

@@ -16,7 +16,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from batball.lab.bbs import IN, MPH, BbsSetup, run_bbs
+from batball.lab.bbs import IN, MPH, run_bbs
+from batball.models.bbs import BbsSetup
 from batball.specs import load_ball_spec, load_bat_spec
 
 PSI = 6894.757293168  # Pa

@@ -17,7 +17,8 @@ from collections.abc import Callable
 import numba
 
 from batball.elements.hex8 import compute_hex8_forces
-from batball.lab.impact import MPH, ImpactSetup, build_impact_model
+from batball.lab.impact import MPH
+from batball.models.impact import ImpactSetup, build_impact_model
 from batball.solvers.explicit import ExplicitControls, ExplicitSolver, HourglassControl
 from batball.specs import load_ball_spec
 

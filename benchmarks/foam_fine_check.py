@@ -18,7 +18,8 @@ from pathlib import Path
 
 from batball.calibrate import seed_targets
 from batball.calibrate.targets import QUANTITIES
-from batball.lab.impact import ImpactSetup, run_impact
+from batball.lab.impact import run_impact
+from batball.models.impact import ImpactSetup
 from batball.specs import load_ball_spec
 
 HERE = Path(__file__).parent / "calibration"

@@ -19,7 +19,8 @@ from pathlib import Path
 import pytest
 
 from batball.calibrate.targets import QUANTITIES as TARGET_QUANTITIES
-from batball.lab.impact import ImpactSetup, run_impact
+from batball.lab.impact import run_impact
+from batball.models.impact import ImpactSetup
 from batball.specs import load_ball_spec
 from batball.specs.seed import load_seed_tables
 

@@ -13,7 +13,8 @@ load within 5 %, contact time within 10 %.
 
 import pytest
 
-from batball.lab.impact import ImpactSetup, run_impact
+from batball.lab.impact import run_impact
+from batball.models.impact import ImpactSetup
 from batball.solvers.explicit import HourglassControl
 from batball.specs import load_ball_spec
 from batball.specs.seed import load_seed_tables

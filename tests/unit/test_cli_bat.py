@@ -102,7 +102,7 @@ def test_fit_bat_to_hoop_recovers_a_braid_and_stores_its_evaluations(tmp_path: P
     evaluation per modal analysis."""
     import math
 
-    from batball.lab.fit_bat import DEFAULT_HOOP_FREE, FreeParameter, HoopTargets, MeshOptions
+    from batball.calibrate.bat_fit import DEFAULT_HOOP_FREE, FreeParameter, HoopTargets, MeshOptions
 
     braid = FreeParameter.parse(DEFAULT_HOOP_FREE[0])
     truth = braid.apply(load_bat_spec("default"), math.radians(40.0))

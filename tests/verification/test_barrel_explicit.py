@@ -32,12 +32,7 @@ import numpy as np
 import pytest
 
 from batball.errors import SpecError
-from batball.lab.barrel import (
-    BarrelTestOptions,
-    build_barrel_model,
-    compress_barrel,
-    compute_prestress,
-)
+from batball.lab.barrel import compress_barrel
 from batball.lab.barrel_explicit import (
     ExplicitBarrelOptions,
     build_explicit_bat,
@@ -46,6 +41,7 @@ from batball.lab.barrel_explicit import (
     press_fit,
     squeeze,
 )
+from batball.models.barrel import BarrelTestOptions, build_barrel_model, compute_prestress
 from batball.specs import load_bat_spec
 
 IN = 0.0254

@@ -16,15 +16,17 @@ import pytest
 
 from batball.contact.shell_contact import PenaltyGaps
 from batball.lab.barrel import (
-    BarrelTestOptions,
-    build_barrel_model,
     compress_barrel,
     compress_barrel_with_friction,
+    insert_friction,
+    with_platen_friction,
+)
+from batball.models.barrel import (
+    BarrelTestOptions,
+    build_barrel_model,
     compression_supports,
     compute_prestress,
-    insert_friction,
     platen_gaps,
-    with_platen_friction,
 )
 from batball.solvers.static_contact import solve_static_contact
 from batball.specs import load_bat_spec

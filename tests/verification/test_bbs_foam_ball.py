@@ -32,8 +32,9 @@ import dataclasses
 import numpy as np
 import pytest
 
-from batball.lab.bbs import BbsResult, BbsSetup, run_bbs
-from batball.lab.impact import ImpactSetup, build_impact_model
+from batball.lab.bbs import BbsResult, run_bbs
+from batball.models.bbs import BbsSetup
+from batball.models.impact import ImpactSetup, build_impact_model
 from batball.solvers.explicit import ExplicitControls, ExplicitSolver, HourglassControl
 from batball.specs import load_ball_spec, load_bat_spec
 

@@ -17,8 +17,10 @@ from __future__ import annotations
 
 import pytest
 
-from batball.lab.bbs import BbsSetup, run_bbs
-from batball.lab.impact import ImpactSetup, run_impact
+from batball.lab.bbs import run_bbs
+from batball.lab.impact import run_impact
+from batball.models.bbs import BbsSetup
+from batball.models.impact import ImpactSetup
 from batball.specs import load_ball_spec, load_bat_spec
 
 IN = 0.0254

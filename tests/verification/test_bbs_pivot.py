@@ -25,9 +25,10 @@ import pytest
 
 from batball.contact.shell_contact import nodal_areas
 from batball.elements.shell_explicit import cell_stable_steps
-from batball.lab.barrel import thin_ring_interference_pressure
-from batball.lab.bbs import BbsResult, BbsSetup, run_bbs
+from batball.lab.bbs import BbsResult, run_bbs
 from batball.lab.props import bat_mass_properties
+from batball.models.barrel import thin_ring_interference_pressure
+from batball.models.bbs import BbsSetup
 from batball.solvers.explicit import HourglassControl
 from batball.specs import load_ball_spec, load_bat_spec
 

@@ -7,7 +7,8 @@ this test was written they were 0.022, 0.014 and 0.0035, and the 12- and 16-divi
 
 import numpy as np
 
-from batball.lab.impact import ImpactSetup, run_impact
+from batball.lab.impact import run_impact
+from batball.models.impact import ImpactSetup
 from batball.specs import load_ball_spec
 
 MPH = 0.44704

@@ -11,8 +11,9 @@ Checks against independent expectations:
 import numpy as np
 import pytest
 
-from batball.lab.compression import CompressionSetup, relaxed_hertz, run_compression
+from batball.lab.compression import run_compression
 from batball.materials import MATERIAL_LAWS
+from batball.models.compression import CompressionSetup, relaxed_hertz
 from batball.specs import ball_spec_from_dict, load_ball_spec
 
 IN = 0.0254

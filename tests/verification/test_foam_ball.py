@@ -6,8 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from batball.lab.compression import CompressionSetup, run_compression
-from batball.lab.impact import ContactOptions, ImpactSetup, run_impact
+from batball.lab.compression import run_compression
+from batball.lab.impact import run_impact
+from batball.models.ball import ContactOptions
+from batball.models.compression import CompressionSetup
+from batball.models.impact import ImpactSetup
 from batball.solvers.explicit import BALANCE, ENERGY_COLUMNS
 from batball.specs import load_ball_spec
 

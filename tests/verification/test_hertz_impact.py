@@ -19,7 +19,9 @@ written), so 8 % is the 12-division band, not a licence.
 import numpy as np
 import pytest
 
-from batball.lab.impact import ContactOptions, ImpactSetup, run_impact
+from batball.lab.impact import run_impact
+from batball.models.ball import ContactOptions
+from batball.models.impact import ImpactSetup
 from batball.solvers.explicit import BALANCE, HourglassControl
 from batball.specs import ball_spec_from_dict
 

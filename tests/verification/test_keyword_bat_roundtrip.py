@@ -19,13 +19,8 @@ import numpy as np
 import pytest
 
 from batball.errors import SpecError
-from batball.lab.barrel import (
-    BarrelTestOptions,
-    build_barrel_model,
-    compute_prestress,
-    run_barrel_compression,
-)
-from batball.lab.bbs import BbsSetup, build_bbs_model
+from batball.lab.barrel import run_barrel_compression
+from batball.lab.decks import run_barrel_deck, run_modal_deck
 from batball.lab.modal import bat_modes
 from batball.lsdyna.bat import (
     barrel_deck,
@@ -34,19 +29,13 @@ from batball.lsdyna.bat import (
     bbs_deck,
     modal_deck,
 )
-from batball.lsdyna.bat_barrel import run_barrel_deck
-from batball.lsdyna.bat_model import (
-    ball_of,
-    pivot_band,
-    read_bat_deck,
-    rigid_shells,
-    run_modal_deck,
-    supports,
-)
+from batball.lsdyna.bat_model import ball_of, pivot_band, read_bat_deck, rigid_shells, supports
 from batball.lsdyna.cards import unit_system
 from batball.lsdyna.model import read_deck
 from batball.mesh.bat import make_bat_mesh
+from batball.models.barrel import BarrelTestOptions, build_barrel_model, compute_prestress
 from batball.models.bat import bat_section
+from batball.models.bbs import BbsSetup, build_bbs_model
 from batball.specs import load_ball_spec
 from batball.specs.bat import load_bat_spec
 

@@ -33,10 +33,12 @@ import numpy as np
 import pytest
 
 from batball.errors import SpecError
-from batball.lab.bbs import BbsMeasures, BbsSetup, build_bbs_model, measure_bbs, run_bbs_model
+from batball.lab.bbs import BbsMeasures, measure_bbs, run_bbs_model
+from batball.lab.decks import run_bbs_deck
 from batball.lsdyna.bat import bbs_deck
-from batball.lsdyna.bat_bbs import read_bbs_deck, run_bbs_deck
+from batball.lsdyna.bat_bbs import read_bbs_deck
 from batball.lsdyna.bat_model import read_bat_deck
+from batball.models.bbs import BbsSetup, build_bbs_model
 from batball.specs import BallSpec, load_ball_spec
 from batball.specs.bat import BatSpec, load_bat_spec
 

@@ -19,9 +19,11 @@ from pathlib import Path
 import pytest
 
 from batball.cli import main
-from batball.lab.impact import ImpactSetup, run_impact
+from batball.lab.decks import run_deck
+from batball.lab.impact import run_impact
 from batball.lsdyna.export import impact_deck
-from batball.lsdyna.model import read_deck, run_deck
+from batball.lsdyna.model import read_deck
+from batball.models.impact import ImpactSetup
 from batball.specs import load_ball_spec
 
 MPH, LBF = 0.44704, 4.4482216152605
@@ -99,8 +101,9 @@ def test_compression_deck_round_trip(
     at random by 1e-18 m gave 28.5290 lbf in most cases and 28.5196 or 28.5220 lbf (3.3e-4,
     2.4e-4 off; the fit 1.9e-4) in 4 of 30 with the fast-math flags before 2026-11-23 and 2 of 30
     after. The deck's round-off lands on 28.5220 since then (4e-12 off before), so 1e-3."""
-    from batball.lab.compression import CompressionSetup, run_compression
+    from batball.lab.compression import run_compression
     from batball.lsdyna.export import compression_deck
+    from batball.models.compression import CompressionSetup
 
     ball = load_ball_spec("type1")
     setup = CompressionSetup(divisions=3, quasi_static_ratio=10.0)

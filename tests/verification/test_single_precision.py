@@ -14,7 +14,8 @@ from __future__ import annotations
 import pytest
 
 from batball.errors import SpecError
-from batball.lab.impact import ImpactSetup, run_impact
+from batball.lab.impact import run_impact
+from batball.models.impact import ImpactSetup
 from batball.solvers.explicit import ExplicitControls
 from batball.specs import load_ball_spec
 from batball.units import MPH

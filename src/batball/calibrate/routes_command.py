@@ -152,8 +152,8 @@ def _speeds_mph(args: argparse.Namespace) -> list[float]:
 
 def _bbs_setup(args: argparse.Namespace) -> Any:
     """The BBS setup of the options (the speed is set per run)."""
-    from batball.lab.bbs import BbsSetup
     from batball.lab.registry import AXIAL_SIZE, CIRCUMFERENTIAL, PIVOT, parse_options
+    from batball.models.bbs import BbsSetup
     from batball.units import parse_quantity
 
     if not 2 <= args.divisions <= 40:

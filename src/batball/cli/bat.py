@@ -70,7 +70,7 @@ def add_fit_bat_parser(sub: Any) -> None:
 
 def run_fit_bat_command(args: argparse.Namespace) -> int:
     """``batball fit-bat``; exits with status 1 when the fit fails or a bound stops it."""
-    from batball.lab.fit_bat import (
+    from batball.calibrate.bat_fit import (
         DEFAULT_FREE,
         DEFAULT_HOOP_FREE,
         FreeParameter,

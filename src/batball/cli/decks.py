@@ -84,7 +84,7 @@ def run_export_command(args: argparse.Namespace) -> int:
         return run_bat_export(args, values)
     ball = load_subject("ball", args.ball)
     if args.test == "compression":
-        from batball.lab.compression import CompressionSetup
+        from batball.models.compression import CompressionSetup
 
         numerics = ball_numerics(values)
         setup: Any = CompressionSetup(divisions=values["divisions"],
@@ -120,7 +120,8 @@ def add_run_deck_parser(sub: Any) -> None:
 
 def run_deck_command(args: argparse.Namespace) -> int:
     """Read, run and report a deck with the impact measurements."""
-    from batball.lsdyna.model import parse_deck, read_deck, run_deck
+    from batball.lab.decks import run_deck
+    from batball.lsdyna.model import parse_deck, read_deck
     from batball.units import parse_quantity
 
     if parse_deck(args.deck).composites:
@@ -185,7 +186,7 @@ def run_bat_export(args: argparse.Namespace, ball_values: dict[str, Any]) -> int
     if args.test == "modal":
         text = modal_deck(spec, n_modes=bat_values["modes"], **common, **mesh)
     elif args.test == "barrel":
-        from batball.lab.barrel import BarrelTestOptions
+        from batball.models.barrel import BarrelTestOptions
 
         text = barrel_deck(spec, BarrelTestOptions(), orientation_deg=bat_values["orientation"],
                            **common, **mesh)  # fmt: skip
@@ -200,7 +201,7 @@ def run_bat_export(args: argparse.Namespace, ball_values: dict[str, Any]) -> int
 
 def bat_export_bbs_setup(values: dict[str, Any], pivot_band: float, mesh: dict[str, Any]) -> Any:
     """The BbsSetup of ``batball export bbs``'s options (speed default: the bbs test's)."""
-    from batball.lab.bbs import BbsSetup
+    from batball.models.bbs import BbsSetup
 
     speed = values["speed"]
     if speed is None:
@@ -213,8 +214,8 @@ def bat_export_bbs_setup(values: dict[str, Any], pivot_band: float, mesh: dict[s
 
 def run_bat_deck_command(args: argparse.Namespace) -> int:
     """``batball run`` of a bat deck: modal, barrel or bbs (docs/lsdyna.md)."""
-    from batball.lsdyna.bat_barrel import run_barrel_deck
-    from batball.lsdyna.bat_model import read_bat_deck, run_modal_deck
+    from batball.lab.decks import run_barrel_deck, run_modal_deck
+    from batball.lsdyna.bat_model import read_bat_deck
 
     bat = read_bat_deck(args.deck, units=args.units)
     if bat.test == "bbs":
@@ -238,7 +239,7 @@ def run_bat_deck_command(args: argparse.Namespace) -> int:
 
 def run_bbs_deck_command(args: argparse.Namespace, bat: Any) -> int:
     """``batball run`` of a bbs deck: the summary ``batball bbs`` prints (no run folder)."""
-    from batball.lsdyna.bat_bbs import run_bbs_deck
+    from batball.lab.decks import run_bbs_deck
     from batball.units import parse_quantity
 
     text = args.separation_time or "0.2 ms"

@@ -14,7 +14,7 @@ each travel level held until the bat stops moving.
 
 * **Bat and fit:** the shells, layered sections, lumped masses (selective mass scaling to the
   barrel's step: inertia is fictitious in a relaxation) and the insert's column contact of
-  :func:`batball.lab.bbs.bat_part` and :func:`batball.lab.bbs.insert_barrel_contact`; the fit
+  :func:`batball.models.bbs.bat_part` and :func:`batball.models.bbs.insert_barrel_contact`; the fit
   is pressed in first, frictionless, by the same ramp-and-settle as the BBS test. Optional
   Coulomb friction at the insert during the squeeze (:meth:`ColumnContact.start_friction`).
   The MITC4 shells take the statics' section of the same laminates and their own step,
@@ -72,15 +72,13 @@ from batball.elements.shell_corotational import (
 )
 from batball.elements.shell_stiffness import shell_section
 from batball.errors import SimulationError, SpecError
-from batball.lab.barrel import (
-    BarrelTestOptions,
-    CompressionCurve,
-    halves,
-    load_axes,
-    radial_cosines,
-    support_nodes,
-)
-from batball.lab.bbs import (
+from batball.lab.barrel import CompressionCurve, halves, radial_cosines
+from batball.lab.fit_store import FitRelaxation, capture_fit, fit_inputs, obtain_fit, restore_fit
+from batball.mesh.bat import outer_rings
+from batball.models.ball import ContactOptions
+from batball.models.barrel import BarrelTestOptions, load_axes, support_nodes
+from batball.models.bat import bat_laminates
+from batball.models.bbs import (
     BbsSetup,
     bat_part,
     check_hourglass_ratio,
@@ -88,10 +86,6 @@ from batball.lab.bbs import (
     insert_barrel_contact,
     relaxation_cycles,
 )
-from batball.lab.fit_store import FitRelaxation, capture_fit, fit_inputs, obtain_fit, restore_fit
-from batball.lab.impact import ContactOptions
-from batball.mesh.bat import outer_rings
-from batball.models.bat import bat_laminates
 from batball.solvers.ball_bat import RELAX_FACTOR, BatPart, ShellForces, relax_fit
 from batball.specs.bat import BatSpec
 from batball.units import IN
@@ -109,7 +103,7 @@ class ExplicitBarrelOptions:
         contact_scale: platen penalty over m / dt^2, dt the BT shells' step estimate whichever
             shells run (module docs).
         feedback_time: time constant of the penetration filter that moves the platens on [s].
-        mass_scaling: as :class:`batball.lab.bbs.BbsSetup` ("barrel", a step in s, or None).
+        mass_scaling: as :class:`batball.models.bbs.BbsSetup` ("barrel", a step in s, or None).
         damping: mass-proportional damping of the relaxation [1/s] (module docs).
         fit_slsfac: SLSFAC of the insert's column contact (0.1, as the BBS test).
         hourglass_ratio: r of the BT shells' hourglass constants (module docs).

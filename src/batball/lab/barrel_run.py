@@ -22,21 +22,13 @@ from typing import Any
 import numpy as np
 
 from batball.lab.barrel import (
-    BarrelModel,
     BarrelResult,
-    BarrelTestOptions,
     CompressionCurve,
-    Prestress,
-    build_barrel_model,
-    compute_prestress,
-    contact_areas,
     halves,
     insert_cosines,
-    load_axes,
     membrane_stress,
     run_barrel_compression,
     table2_loads,
-    thin_ring_interference_pressure,
     von_mises,
 )
 from batball.lab.barrel_explicit import (
@@ -45,6 +37,16 @@ from batball.lab.barrel_explicit import (
     run_explicit_compression,
 )
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
+from batball.models.barrel import (
+    BarrelModel,
+    BarrelTestOptions,
+    Prestress,
+    build_barrel_model,
+    compute_prestress,
+    contact_areas,
+    load_axes,
+    thin_ring_interference_pressure,
+)
 from batball.results.store import (
     atomic_path,
     load_cached_summary,

@@ -15,7 +15,8 @@ from typing import Any
 
 import numpy as np
 
-from batball.lab.bbs import BbsResult, BbsSetup, run_bbs
+from batball.lab.bbs import BbsResult, run_bbs
+from batball.models.bbs import BbsSetup
 from batball.results.plots import plot_force_time
 from batball.results.store import (
     atomic_path,

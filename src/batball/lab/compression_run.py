@@ -14,9 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from batball.lab.compression import CompressionResult, CompressionSetup, run_compression
+from batball.lab.compression import CompressionResult, run_compression
 from batball.lab.impact_run import ball_test_inputs
 from batball.mesh import mesh_quality
+from batball.models.compression import CompressionSetup
 from batball.results.fields import write_time_series
 from batball.results.plots import plot_lines
 from batball.results.store import (

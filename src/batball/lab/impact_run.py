@@ -14,8 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from batball.lab.impact import ImpactResult, ImpactSetup, run_impact
+from batball.lab.impact import ImpactResult, run_impact
 from batball.mesh import mesh_quality
+from batball.models.impact import ImpactSetup
 from batball.results.fields import write_time_series
 from batball.results.plots import plot_force_time
 from batball.results.store import (

@@ -196,12 +196,12 @@ def insert_contact_stiffness(spec: BatSpec, circumferential: int,
                              axial_size: float) -> sp.csr_matrix:  # fmt: skip
     """K plus the closed interference-fit gaps of the pre-stressed bat as radial springs, SI.
 
-    The fit (:func:`batball.lab.barrel.compute_prestress`) closes every insert node's gap on the
+    The fit (:func:`batball.models.barrel.compute_prestress`) closes every insert node's gap on the
     default bat; linearised about that state, each closed frictionless gap is a radial penalty
     spring k G^T G: the walls share radial motion and slide freely along the axis and around.
     The pre-stress's geometric stiffness is left out (hoop stresses of about 1-1.6 ksi against
     moduli of 2-3 Msi)."""
-    from batball.lab.barrel import build_barrel_model, compute_prestress
+    from batball.models.barrel import build_barrel_model, compute_prestress
 
     model = build_barrel_model(spec, circumferential=circumferential, axial_size=axial_size)
     active = compute_prestress(model).active

@@ -101,8 +101,8 @@ class BarrelSetup:
 
 def _build_barrel(values: Mapping[str, Any]) -> BarrelSetup:
     """The barrel Setup, every value checked by the options it becomes."""
-    from batball.lab.barrel import BarrelTestOptions
     from batball.lab.barrel_explicit import ExplicitBarrelOptions
+    from batball.models.barrel import BarrelTestOptions
 
     shell, ratio = values["shell"], values["hourglass_ratio"]
     explicit = None
@@ -130,7 +130,7 @@ def _build_barrel(values: Mapping[str, Any]) -> BarrelSetup:
 def ball_numerics(values: Mapping[str, Any]) -> dict[str, Any]:
     """The ``hourglass``, ``bulk_viscosity`` and ``contact`` settings of a ball's parsed options
     (those not given keep their own defaults), for any Setup that holds a ball."""
-    from batball.lab.impact import ContactOptions
+    from batball.models.ball import ContactOptions
     from batball.solvers.explicit import BulkViscosity, HourglassControl
 
     return {
@@ -147,7 +147,7 @@ def ball_numerics(values: Mapping[str, Any]) -> dict[str, Any]:
 
 def _impact_builder(test: str) -> Any:
     def build(values: Mapping[str, Any]) -> Any:
-        from batball.lab.impact import ImpactSetup
+        from batball.models.impact import ImpactSetup
 
         return ImpactSetup(test=test, speed=values["speed"], divisions=values["divisions"],
                            contact_threshold=values["contact_threshold"],
@@ -157,7 +157,7 @@ def _impact_builder(test: str) -> Any:
 
 
 def _build_compression(values: Mapping[str, Any]) -> Any:
-    from batball.lab.compression import CompressionSetup
+    from batball.models.compression import CompressionSetup
 
     numerics = ball_numerics(values)
     return CompressionSetup(displacement=values["displacement"], rate=values["rate"],
@@ -167,7 +167,7 @@ def _build_compression(values: Mapping[str, Any]) -> Any:
 
 
 def _build_bbs(values: Mapping[str, Any]) -> Any:
-    from batball.lab.bbs import BbsSetup
+    from batball.models.bbs import BbsSetup
 
     ratio = values["hourglass_ratio"]
     return BbsSetup(

@@ -22,14 +22,6 @@ import numpy as np
 from batball.contact.rigid import RigidCylinder
 from batball.elements.shell_stiffness import SHEAR_FACTOR
 from batball.errors import SpecError
-from batball.lab.barrel import (
-    BarrelTestOptions,
-    build_barrel_model,
-    compression_supports,
-    load_axes,
-)
-from batball.lab.bbs import BbsSetup, build_bbs_model
-from batball.lab.impact import ball_body
 from batball.lsdyna.cards import UnitSystem, unit_system
 from batball.lsdyna.export import (
     _LONG,
@@ -51,6 +43,14 @@ from batball.materials.laminate import Ply
 from batball.materials.orthotropic import MAT022_PARAMETERS
 from batball.mesh.bat import make_bat_mesh
 from batball.mesh.shell import ShellMesh, quad_areas
+from batball.models.ball import ball_body
+from batball.models.barrel import (
+    BarrelTestOptions,
+    build_barrel_model,
+    compression_supports,
+    load_axes,
+)
+from batball.models.bbs import BbsSetup, build_bbs_model
 from batball.specs import BallSpec
 from batball.specs.bat import BatSpec, PlySpec
 from batball.units import IN, MPH
@@ -295,7 +295,7 @@ def barrel_support_nodes(
     axial_size: float,
 ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
     """The seed's supports as batball's barrel test places them: the ring nodes held axially
-    (:func:`~batball.lab.barrel.compression_supports`) and, of those, the four on the load axis
+    (:func:`~batball.models.barrel.compression_supports`) and, of those, the four on the load axis
     held sideways (mesh indices)."""
     model = build_barrel_model(spec, circumferential=circumferential, axial_size=axial_size)
     dofs, _ = compression_supports(model, options, orientation_deg)
@@ -415,7 +415,7 @@ def bbs_deck(
     spec: BatSpec, ball: BallSpec, setup: BbsSetup, *, units: str = "in-lbf-s", long: bool = False
 ) -> str:
     """The batted-ball-speed test (seed "Batted-Ball Speed", ASTM F2219 as the seed ran it) as a
-    keyword deck, built from :func:`batball.lab.bbs.build_bbs_model`: the ball (part 1, hexes,
+    keyword deck, built from :func:`batball.models.bbs.build_bbs_model`: the ball (part 1, hexes,
     its *MAT card) placed ``gap`` over the barrel ``impact_from_cap`` from the cap and fired
     along -y; the bat's Belytschko-Tsay composite shells; the insert pressed in by dynamic
     relaxation (:func:`interference_lines`); ball and outer wall in

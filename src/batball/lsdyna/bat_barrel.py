@@ -21,13 +21,12 @@ import numpy as np
 
 from batball.contact.rigid import RigidCylinder
 from batball.errors import SpecError
-from batball.lab.barrel import BarrelTestOptions, build_barrel_model, compression_supports
 from batball.lsdyna.bat_model import BatDeck, contact_side, rigid_shells, supports
 from batball.lsdyna.cards import unit_system
 from batball.mesh.bat import make_bat_mesh
 from batball.mesh.shell import quad_areas
+from batball.models.barrel import BarrelTestOptions, compression_supports
 from batball.specs.bat import BatSpec, InsertSpec, PartSpec, PlySpec
-from batball.units import LBF
 
 
 def plies_of(bat: BatDeck, name: str) -> tuple[PlySpec, ...]:
@@ -149,25 +148,6 @@ def check_platen_contacts(bat: BatDeck) -> None:
             pairs,
             "the outer parts (SURFA) on platen 2 and on platen 3 (SURFB)",
         )
-
-
-def run_barrel_deck(bat: BatDeck) -> dict[str, Any]:
-    """Run a barrel deck as ``batball barrel`` runs the spec (one orientation)."""
-    from batball.lab.barrel import compute_prestress, run_barrel_compression
-
-    spec = spec_from_deck(bat)
-    options, orientation = options_from_deck(bat, spec)
-    model = build_barrel_model(spec, **mesh_sizes(bat), penalty_factor=options.penalty_factor)
-    check_supports(bat, model, options, orientation)
-    result = run_barrel_compression(model, compute_prestress(model), options)
-    return {
-        "test": "barrel",
-        "title": bat.title,
-        "orientation_deg": orientation,
-        "preload_lbf": float(result.preloads()[0]) / LBF,
-        "final_load_lbf": float(result.final_loads()[0]) / LBF,
-        "n_shells": bat.mesh.n_cells,
-    }
 
 
 def check_supports(bat: BatDeck, model: Any, options: BarrelTestOptions, angle: float) -> None:

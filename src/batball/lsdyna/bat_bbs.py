@@ -1,8 +1,8 @@
 """Run a batted-ball-speed deck (:func:`batball.lsdyna.bat.bbs_deck`) in batball.
 
 batball's bbs test (:mod:`batball.lab.bbs`) builds its model from a bat spec, a ball spec and a
-:class:`~batball.lab.bbs.BbsSetup`, so the deck is turned back into those three and the model
-is built by :func:`~batball.lab.bbs.build_bbs_model`, the same path as ``batball bbs``:
+:class:`~batball.models.bbs.BbsSetup`, so the deck is turned back into those three and the model
+is built by :func:`~batball.models.bbs.build_bbs_model`, the same path as ``batball bbs``:
 
 * the bat: :func:`~batball.lsdyna.bat_barrel.spec_from_deck` (checked to rebuild the deck's
   shells node for node);
@@ -27,22 +27,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
-from typing import Any
 
 import numpy as np
 
 from batball.elements.shell_stiffness import SHEAR_FACTOR
 from batball.errors import SpecError
-from batball.lab.bbs import (
-    BbsModel,
-    BbsResult,
-    BbsSetup,
-    build_bbs_model,
-    measure_bbs,
-    run_bbs_model,
-)
-from batball.lab.impact import ContactOptions
 from batball.lsdyna.bat_barrel import mesh_sizes, spec_from_deck
 from batball.lsdyna.bat_model import (
     BatDeck,
@@ -55,6 +44,8 @@ from batball.lsdyna.cards import UnitSystem, unit_system
 from batball.lsdyna.model import _controls, _hourglass, _part_ids
 from batball.materials import MATERIAL_LAWS
 from batball.mesh import Mesh, hex_volumes
+from batball.models.ball import ContactOptions
+from batball.models.bbs import BbsModel, BbsSetup, build_bbs_model
 from batball.specs import BallSpec
 from batball.specs.ball import MaterialSpec
 from batball.specs.bat import BatSpec
@@ -74,7 +65,7 @@ class BbsDeck:
 
     Attributes:
         bat, ball, setup: the specs and setup ``batball bbs`` would run.
-        model: built by :func:`~batball.lab.bbs.build_bbs_model`, its pivot band the deck's.
+        model: built by :func:`~batball.models.bbs.build_bbs_model`, its pivot band the deck's.
         band_offset: the band's centre of mass (the pivot) minus the mid-point of the band's
             rings along the bat [m]: what LS-DYNA's rotation centre adds over a symmetric band.
     """
@@ -316,19 +307,3 @@ def check_ball_rebuilds(model: BbsModel, ball_mesh: Mesh, spec: BatSpec) -> None
                         "batball's O-grid ball (as batball export bbs writes it)")  # fmt: skip
 
 
-def run_bbs_deck(bat: BatDeck, *, separation_time: float = BbsSetup.separation_time,
-                 precision: str = BbsSetup.precision) -> dict[str, Any]:  # fmt: skip
-    """Run a bbs deck as ``batball bbs`` runs its specs; the same summary keys (no run folder),
-    with the deck's pivot."""
-    from batball.lab.bbs_run import summarise_bbs
-
-    start = time.perf_counter()
-    read = read_bbs_deck(bat, separation_time=separation_time, precision=precision)
-    run = run_bbs_model(read.model, read.setup)
-    result = BbsResult(read.bat, read.ball, read.setup, read.model, run,
-                       measure_bbs(read.model, run, read.setup))  # fmt: skip
-    summary = summarise_bbs(result, time.perf_counter() - start)
-    summary.update(title=bat.title, pivot_from_knob_in=read.setup.pivot_from_knob / IN,
-                   pivot_band_nodes=int(read.model.coupled.bat.band.size),
-                   pivot_offset_from_band_centre_in=read.band_offset / IN)  # fmt: skip
-    return summary

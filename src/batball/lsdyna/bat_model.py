@@ -302,31 +302,6 @@ def ring_count(mesh: ShellMesh) -> int:
     return circumferential
 
 
-def run_modal_deck(bat: BatDeck) -> dict[str, Any]:
-    """Free-free modes of a modal deck, summarised as ``batball modal`` summarises them."""
-    from batball.lab.modal import shell_modes
-
-    if bat.test != "modal":
-        raise SpecError(
-            "deck",
-            bat.test,
-            "a modal deck (barrel and bbs decks run through batball.lsdyna.bat_barrel and "
-            "batball.lsdyna.bat_bbs, see docs/lsdyna.md)",
-        )
-    modes = shell_modes(bat.mesh, bat.section(), circumferential=bat.circumferential,
-                        n_modes=bat.n_modes)  # fmt: skip
-    bending, hoop = modes.first("bending"), modes.first("hoop")
-    return {
-        "test": "modal",
-        "title": bat.title,
-        "bending_hz": [float(modes.frequencies[i]) for i in bending],
-        "hoop_hz": [float(modes.frequencies[i]) for i in hoop],
-        "frequencies_hz": [float(f) for f in modes.frequencies],
-        "labels": list(modes.labels),
-        "n_shells": bat.mesh.n_cells,
-    }
-
-
 def node_set(bat: BatDeck, sid: int) -> np.ndarray:
     """Mesh indices of the bat nodes in *SET_NODE_LIST ``sid``."""
     if sid not in bat.deck.node_sets:

@@ -1,6 +1,6 @@
 """Write a ball-impact test (CCOR against the F2845 half-cylinder, COR against the F1887 wall) as
 a complete LS-DYNA keyword deck, built from the same objects as :func:`batball.lab.impact.
-run_impact` (:func:`~batball.lab.impact.ball_body`, :func:`~batball.lab.impact.make_target`).
+run_impact` (:func:`~batball.models.ball.ball_body`, :func:`~batball.models.impact.make_target`).
 
 The ball is part 1 (hexes, ELFORM 1, its material law's *MAT card). batball's analytic rigid
 target becomes part 2, a mesh of *MAT_RIGID shells fixed in space (CMO = 1, CON1 = CON2 = 7), and
@@ -23,8 +23,6 @@ import numpy as np
 
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SpecError
-from batball.lab.compression import TRAVEL_MARGIN, CompressionSetup, build_compression_model
-from batball.lab.impact import ImpactSetup, ball_body, make_target
 from batball.lsdyna.cards import (
     LAYOUTS,
     UnitSystem,
@@ -32,6 +30,9 @@ from batball.lsdyna.cards import (
     format_card,
     unit_system,
 )
+from batball.models.ball import ball_body
+from batball.models.compression import TRAVEL_MARGIN, CompressionSetup, build_compression_model
+from batball.models.impact import ImpactSetup, make_target
 from batball.specs import BallSpec
 from batball.units import IN, MPH
 from batball.version import __version__

@@ -19,7 +19,6 @@ UNIT_SYSTEMS`, in-lbf-s by default) and converted to SI.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -28,20 +27,19 @@ import numpy as np
 
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SpecError
-from batball.lab.impact import ContactOptions, ball_contact_stiffness, estimate_first_step
 from batball.lsdyna.cards import UnitSystem, unit_system
 from batball.lsdyna.deck import CardLine, KeywordBlock, read_keyword_file, split_fields
 from batball.materials.base import BULK
 from batball.mesh import Mesh
+from batball.models.ball import ContactOptions, ball_contact_stiffness, estimate_first_step
 from batball.solvers.explicit import (
-    BALANCE,
     BulkViscosity,
     ExplicitControls,
     HourglassControl,
     Model,
     RigidContact,
 )
-from batball.units import IN, LBF, MPH, OZ
+from batball.units import IN
 
 #: Keywords with a fixed number of cards: (least, most).
 CARD_COUNTS = {
@@ -419,7 +417,7 @@ def _compression_controls(
     (1 % of the relaxed Hertz estimate of the plates' work)."""
     import dataclasses
 
-    from batball.lab.compression import relaxed_hertz
+    from batball.models.compression import relaxed_hertz
 
     top = model.contacts[0].target
     if n_contacts != 2 or top.velocity is None or model.contacts[1].target.velocity is not None:
@@ -714,53 +712,3 @@ def fit_target(
                          radius=r_mid + 0.5 * thickness, length=float(np.ptp(s)))  # fmt: skip
 
 
-def run_deck(
-    deck: DeckModel, *, threshold: float = 0.01, progress: Callable[[float], None] | None = None
-) -> dict[str, Any]:
-    """Run a deck read by :func:`read_deck` as its test; the summary names its units."""
-    from batball.lab.impact import run_impact_model
-
-    if deck.test == "compression":
-        return run_compression_deck(deck, progress=progress)
-    run, _, m = run_impact_model(deck.model, deck.controls, threshold, progress=progress)
-    kinetic0 = 0.5 * run.mass * deck.speed**2
-    return {
-        "test": deck.test,
-        "title": deck.title,
-        deck.test: m.restitution,
-        "inbound_mph": m.inbound_speed / MPH,
-        "rebound_mph": m.rebound_speed / MPH,
-        "ds_lbf_per_in": m.dynamic_stiffness / (LBF / IN),
-        "peak_force_lbf": m.peak_force / LBF,
-        "contact_time_ms": m.contact_time * 1e3,
-        "ball_mass_oz": run.mass / OZ,
-        "n_cells": deck.model.mesh.n_cells,
-        "n_steps": len(run.time),
-        "energy_balance_error": float(np.abs(run.energies[:, BALANCE]).max() / kinetic0),
-        "wall_seconds": run.wall_seconds,
-    }
-
-
-def run_compression_deck(
-    deck: DeckModel, *, samples: int = 201, progress: Callable[[float], None] | None = None
-) -> dict[str, Any]:
-    """Run a compression deck and read it as :func:`batball.lab.compression.run_compression`."""
-    from batball.lab.compression import power_law_reading, run_compression_model
-
-    run, grid, force, difference, _, ratio, error = run_compression_model(
-        deck.model, deck.controls, deck.speed, deck.displacement, samples, progress=progress
-    )
-    return {
-        "test": "compression",
-        "title": deck.title,
-        "compression_lbf": float(force[-1]) / LBF,
-        "compression_fit_lbf": power_law_reading(grid, force, deck.displacement) / LBF,
-        "displacement_in": deck.displacement / IN,
-        "rate_in_per_min": deck.speed / IN * 60.0,
-        "plate_force_difference_fraction": float(abs(difference[-1]) / max(force[-1], 1e-300)),
-        "kinetic_to_internal_energy": ratio,
-        "energy_balance_error": error,
-        "n_cells": deck.model.mesh.n_cells,
-        "n_steps": len(run.time),
-        "wall_seconds": run.wall_seconds,
-    }

@@ -17,7 +17,8 @@ from batball.calibrate import (
     open_executor,
 )
 from batball.calibrate.evaluate import COMPRESSION_DIVISIONS, COMPRESSION_RATIO
-from batball.lab.compression import CompressionSetup, run_compression
+from batball.lab.compression import run_compression
+from batball.models.compression import CompressionSetup
 from batball.specs import load_ball_spec
 
 LBF = 4.4482216152605  # N

@@ -17,7 +17,8 @@ from batball.calibrate import (
     open_executor,
 )
 from batball.calibrate.study import INFEASIBLE_RESIDUAL
-from batball.lab.impact import ImpactSetup, run_impact
+from batball.lab.impact import run_impact
+from batball.models.impact import ImpactSetup
 from batball.specs import MaterialSpec, load_ball_spec
 
 PSI = 6894.757293168361

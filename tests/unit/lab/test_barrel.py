@@ -15,19 +15,18 @@ import pytest
 
 from batball.cli import main
 from batball.errors import SpecError
-from batball.lab.barrel import (
-    IN,
+from batball.lab.barrel import membrane_stress, run_barrel_compression
+from batball.models.barrel import (
     BarrelModel,
     BarrelTestOptions,
     Prestress,
     build_barrel_model,
     compute_prestress,
     contact_areas,
-    membrane_stress,
-    run_barrel_compression,
     thin_ring_interference_pressure,
 )
 from batball.specs import load_bat_spec
+from batball.units import IN
 
 COARSE = {"circumferential": 16, "axial_size": 0.4 * IN}
 
@@ -149,7 +148,7 @@ def test_condensed_compression_equals_the_active_set_iteration(model, prestress)
     force. The iteration needs a 1-nm hysteresis to stop two gaps cycling (the error it allows
     is at most k x 1 nm per gap held in the wrong state); the measured difference is below
     that, so 1e-6 is the iteration's tolerance, not the condensed solve's."""
-    from batball.lab.barrel import compression_supports, platen_gaps
+    from batball.models.barrel import compression_supports, platen_gaps
     from batball.solvers.static_contact import solve_static_contact
 
     options = BarrelTestOptions(orientations_deg=(45.0,), curve_orientations=0)
@@ -172,7 +171,8 @@ def test_condensed_compression_equals_the_active_set_iteration(model, prestress)
 def test_the_insert_halves_are_split_by_node_angle(model) -> None:
     """Figure 13's top and bottom halves: every insert node on one side, except the two columns
     on the dividing plane (2 of 16 around), which count half to each."""
-    from batball.lab.barrel import halves, insert_cosines, load_axes
+    from batball.lab.barrel import halves, insert_cosines
+    from batball.models.barrel import load_axes
 
     cosine = insert_cosines(model, load_axes(0.0)[0])
     assert np.mean(np.abs(cosine) < 1e-9) == pytest.approx(2 / 16)
@@ -227,9 +227,9 @@ def test_cli_runs_the_explicit_squeeze_into_its_own_folder(
 def test_an_interrupted_explicit_run_resumes_after_the_last_orientation_done(
     tmp_path: Path,
 ) -> None:
-    from batball.lab.barrel import BarrelTestOptions
     from batball.lab.barrel_explicit import ExplicitBarrelOptions
     from batball.lab.barrel_run import orientation_file, run_explicit_barrel_test
+    from batball.models.barrel import BarrelTestOptions
     from batball.specs import load_bat_spec
 
     spec = load_bat_spec("default")

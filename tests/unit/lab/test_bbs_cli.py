@@ -7,7 +7,7 @@ import pytest
 
 from batball.cli import main
 from batball.errors import SpecError
-from batball.lab.bbs import BbsSetup
+from batball.models.bbs import BbsSetup
 
 COARSE = ["--ball-divisions", "4", "--circumferential", "8", "--axial-size", "1 in"]
 

@@ -7,7 +7,7 @@ import pytest
 
 from batball.cli import main
 from batball.errors import SpecError
-from batball.lab.compression import CompressionSetup
+from batball.models.compression import CompressionSetup
 
 
 def run_cli(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:

@@ -8,8 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from batball.lab.bbs import BbsSetup, build_bbs_model, run_bbs
+from batball.lab.bbs import run_bbs
 from batball.lab.fit_store import FIT_FILE, capture_fit, restore_fit
+from batball.models.bbs import BbsSetup, build_bbs_model
 from batball.specs import load_ball_spec, load_bat_spec
 
 IN = 0.0254

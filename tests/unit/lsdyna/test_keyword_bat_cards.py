@@ -18,11 +18,11 @@ import numpy as np
 import pytest
 from test_keyword_cards import blocks, num, read, tens
 
-from batball.lab.barrel import BarrelTestOptions
-from batball.lab.bbs import BbsSetup
 from batball.lsdyna.bat import barrel_deck, bbs_deck, modal_deck
 from batball.mesh.bat import make_bat_mesh
 from batball.mesh.shell import quad_areas
+from batball.models.barrel import BarrelTestOptions
+from batball.models.bbs import BbsSetup
 from batball.specs import load_ball_spec
 from batball.specs.bat import load_bat_spec
 

@@ -13,8 +13,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from batball.lab.impact import ImpactSetup, ball_body, make_target
 from batball.lsdyna.export import impact_deck
+from batball.models.ball import ball_body
+from batball.models.impact import ImpactSetup, make_target
 from batball.specs import load_ball_spec
 
 IN, LBF, MPH = 0.0254, 4.4482216152605, 0.44704
@@ -197,8 +198,8 @@ def test_compression_keywords_columns() -> None:
     """The compression deck's own keywords: *DEFINE_CURVE (header in 10 columns, points in two
     20-column fields), *BOUNDARY_PRESCRIBED_MOTION_RIGID, *DAMPING_GLOBAL, and the moving
     plate's *MAT_RIGID (CON1 4: x, y fixed)."""
-    from batball.lab.compression import CompressionSetup, build_compression_model
     from batball.lsdyna.export import compression_deck
+    from batball.models.compression import CompressionSetup, build_compression_model
 
     ball = load_ball_spec("type1")
     setup = CompressionSetup(divisions=2)

@@ -13,10 +13,10 @@ import pytest
 
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SpecError
-from batball.lab.impact import ImpactSetup, build_impact_model, make_target
 from batball.lsdyna.deck import read_keyword_file, split_fields
 from batball.lsdyna.export import impact_deck
 from batball.lsdyna.model import parse_deck, read_deck
+from batball.models.impact import ImpactSetup, build_impact_model, make_target
 from batball.specs import load_ball_spec
 
 MPH = 0.44704

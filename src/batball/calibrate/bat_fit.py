@@ -32,6 +32,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from batball.errors import SimulationError, SpecError
+from batball.lab.modal import bat_modes
 from batball.lab.props import DEFAULT_PIVOT, bat_mass_properties
 from batball.mesh.bat import DEFAULT_AXIAL_SIZE, DEFAULT_CIRCUMFERENTIAL
 from batball.specs.bat import BatSpec, PartSpec, PlySpec
@@ -290,7 +291,6 @@ class HoopTargets:
         return self.hoop_hz
 
     def achieved(self, spec: BatSpec, mesh: MeshOptions) -> tuple[float, ...]:
-        from batball.lab.modal import bat_modes
         from batball.results.store import load_cached_summary, run_folder, write_summary
         from batball.specs.bat import bat_spec_to_toml_dict
         from batball.version import __version__

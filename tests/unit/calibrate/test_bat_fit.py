@@ -7,8 +7,7 @@ import math
 
 import pytest
 
-from batball.errors import SpecError
-from batball.lab.fit_bat import (
+from batball.calibrate.bat_fit import (
     MATCH_TOLERANCE,
     BatFit,
     FreeParameter,
@@ -17,6 +16,7 @@ from batball.lab.fit_bat import (
     MeshOptions,
     fit_bat,
 )
+from batball.errors import SpecError
 from batball.lab.props import bat_mass_properties
 from batball.specs import load_bat_spec
 
