@@ -1,4 +1,4 @@
-"""Regenerate the tables of docs/ball-impact.md: the seed's four CCOR cases on the full ball.
+"""Regenerate the tables of docs/notes/ball-impact.md: the seed's four CCOR cases on the full ball.
 
 Usage: python benchmarks/ball_impact_table.py [--hourglass-type 1] [--hourglass-coefficient 0.1]
        [--divisions 12]

@@ -1,5 +1,5 @@
 """Why batball's barrel compression is linear (final / preload = 2.5) and the seed's experiment
-is not (368 / 186 = 1.98): the candidates of docs/barrel.md, each measured on one mesh.
+is not (368 / 186 = 1.98): the candidates of docs/notes/barrel.md, each measured on one mesh.
 
 Variants, each a full pre-stress + compression at 0 deg with the curve:
   base          the default bat (3.3-in platens, 0.001-in radial fit, frictionless insert)

@@ -6,7 +6,7 @@ and prints wall time and hex element-cycles per second for each. Usage:
 
     python benchmarks/bench_ccor.py [--divisions 12] [--repeats 3] [--precision single]
 
-``--precision both`` alternates single and double element arithmetic (the A/B of docs/precision.md).
+``--precision both`` alternates single and double element arithmetic (the A/B of docs/notes/precision.md).
 """
 
 from __future__ import annotations

@@ -10,13 +10,13 @@
 # and 8.
 #
 # Fine fits (<name>-12div, after the coarse <name>): the 12-division stage (the seed's 12,096-hex
-# ball) the coarse fits lacked, since they did not survive refinement (docs/foams.md, "On one
+# ball) the coarse fits lacked, since they did not survive refinement (docs/notes/foams.md, "On one
 # mesh"): bounded least squares from the coarse fit, no global stage, at most 8 evaluations,
-# 2 workers (docs/foams.md, "The fine stage for MAT_057").
+# 2 workers (docs/notes/foams.md, "The fine stage for MAT_057").
 #
 # Curve-shape fits (<name>-sfa, after <name>-12div): the same fine stage with the loading curve's
 # strain scale (SFA, curve_strain_scale) free as well, so that the fit moves where the curve
-# densifies and not only its level (docs/foams.md, "The loading curve's shape"); SFA in
+# densifies and not only its level (docs/notes/foams.md, "The loading curve's shape"); SFA in
 # [0.6, 1.4] (the example curve ends at 0.7 strain, and a scaled strain must stay <= 0.99).
 # type2-mat057-sfa14: the type-2 fit with SFA held at 1.4 (where type 1's ran to), the four
 # default parameters free, from type2-mat057-sfa14-start.toml, to see whether the curve's shape

@@ -1,6 +1,6 @@
 """Barrel compression in CalculiX with a Coulomb-friction contact between insert and barrel.
 
-Tests docs/barrel.md's leading hypothesis for Table 2's stiff start (issue 8): friction at the
+Tests docs/notes/barrel.md's leading hypothesis for Table 2's stiff start (issue 8): friction at the
 insert-barrel interface sticks at first and slips later, raising the preload (0.02 in) more than
 the final load (0.07 in). The model is ``ccx_barrel_nlgeom.py``'s (one eighth, C3D8I per ply,
 rigid 3.3-in platen with node-to-surface penalty contact; its functions are imported), except at

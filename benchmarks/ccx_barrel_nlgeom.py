@@ -1,6 +1,6 @@
 """Barrel compression of the default bat's double wall in CalculiX: geometrically linear vs NLGEOM.
 
-An independent check of two questions in docs/barrel.md (issue 8): (1) does geometric
+An independent check of two questions in docs/notes/barrel.md (issue 8): (1) does geometric
 nonlinearity (ovalisation, local flattening under the platen) make the force-travel curve soften
 from 0.02 in to 0.07 in, as the experiment's Table 2 pair (186 / 368 lbf, ratio 1.98 against the
 linear 2.5) does; (2) is batball's linear force the right size for such a wall.

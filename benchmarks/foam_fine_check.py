@@ -2,7 +2,7 @@
 
 The foam calibrations (benchmarks/calibrate_foam_balls.sh) fit on the 8-division ball only; the
 MAT_006 fits ended on the 12-division (seed) ball. This re-evaluates saved fits on the
-12-division ball so that the comparison in docs/foams.md is on one mesh.
+12-division ball so that the comparison in docs/notes/foams.md is on one mesh.
 
 Usage: python benchmarks/foam_fine_check.py [--divisions N] NAME [NAME ...]
 (NAME = a fitted ball's stem in benchmarks/calibration, e.g. type1-mat057)

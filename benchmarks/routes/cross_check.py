@@ -1,4 +1,4 @@
-"""Cross-check of a synthetic comparison (docs/calibration-routes.md): each ball the routes
+"""Cross-check of a synthetic comparison (docs/notes/calibration-routes.md): each ball the routes
 fitted (MAT_006 or Prony), run in every route's impact tests (flat wall at 60 and 95 mph,
 cylinder at 95 and 110 mph) on the 8-division ball, beside the truth. The balls are rebuilt from
 the JSON's 5-figure parameters.

@@ -1,4 +1,4 @@
-"""Less ideal DMA data of the synthetic true ball (docs/calibration-routes.md, issue 12).
+"""Less ideal DMA data of the synthetic true ball (docs/notes/calibration-routes.md, issue 12).
 
 Writes, next to the exact ``synthetic/dma.csv``:
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The routes under measurement noise (docs/calibration-routes.md, "Measurement noise"): seeded
+# The routes under measurement noise (docs/notes/calibration-routes.md, "Measurement noise"): seeded
 # noisy copies of a synthetic data set (batball synthetic-noise, the assumed lab repeatability
 # of calibrate/noise.py) and compare-calibrations on each, one JSON per seed.
 # Usage: benchmarks/routes/noise_study.sh [seed ...]   (default 1 2 3 4)

@@ -1,4 +1,4 @@
-"""The spread of the routes under measurement noise (docs/calibration-routes.md, issue 12).
+"""The spread of the routes under measurement noise (docs/notes/calibration-routes.md, issue 12).
 
 Reads ``results/noise-<tag>-seed-<N>.json`` (benchmarks/routes/noise_study.sh) and prints, per
 route, each seed's BBS error and G(t), then the mean and sample standard deviation over the

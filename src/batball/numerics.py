@@ -18,7 +18,7 @@ from batball.errors import SpecError
 #: leave out ``reassoc``: Numba links a copy of each non-inlined callee (and of each prange body)
 #: into every cached kernel and optimises it again there, and with reassociation that copy and
 #: the callee's first one round differently, so a process that compiled a kernel and one that
-#: loaded it from the cache gave different bits (docs/precision.md,
+#: loaded it from the cache gave different bits (docs/notes/precision.md,
 #: "Same input, same bits, compiled or cached").
 FASTMATH = {"nsz", "arcp", "contract", "afn"}
 
@@ -69,7 +69,7 @@ def threads_for_work(work: int, *, parallel_min_work: int) -> Iterator[None]:
 
     A parallel region has to wake its worker threads: microseconds on an idle machine, but on
     the shared 2-core machine under load (load average 6) each region of the full-size BBS
-    contact cost about 30 ms with 2 threads against 0.01-4 ms on one (docs/bbs.md), so small
+    contact cost about 30 ms with 2 threads against 0.01-4 ms on one (docs/notes/bbs.md), so small
     kernels are better left serial.
     """
     threads = nb.get_num_threads()

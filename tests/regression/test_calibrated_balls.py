@@ -4,10 +4,11 @@
 Issue 4: every cell at least as close to the experiment as the seed's LS-DYNA column, except the
 ones docs/calibration.md lists as not reached (type 1's CCOR at 95 mph with MAT_006: the one-term
 model cannot follow CCOR's fall with speed; see the trade-off there). The same for the MAT_057
-foam balls fitted on this mesh (``<ball>-mat057-12div``, docs/foams.md "The fine stage for
+foam balls fitted on this mesh (``<ball>-mat057-12div``, docs/notes/foams.md "The fine stage for
 MAT_057"): type 1's CCOR at 95 mph for the same reason, and type 2's CCORs, which the seed's
 LS-DYNA had within 0.9 % and the foam within 1.1 %. And the type-2 foam refitted with its curve
-densifying later (``type2-mat057-sfa14``, docs/foams.md "The loading curve's shape"): every cell
+densifying later (``type2-mat057-sfa14``, docs/notes/foams.md "The loading curve's shape"): every
+cell
 within the calibration goal (CCOR 1 %, peak force 3 %, DS and contact time 5 %), its CCORs
 (-0.9 / +0.9 %) still a little farther than the seed's LS-DYNA (-0.9 / -0.7 %).
 """

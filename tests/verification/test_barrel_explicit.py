@@ -4,19 +4,20 @@ symmetry, and an independent code's nonlinearity.
 Coarse bat (16 quads around, 0.4-in rings) so that a squeeze costs seconds. Expectations:
 
 * **Small travel = the linear static test.** At 0.005 in geometric nonlinearity is negligible
-  (CalculiX's NLGEOM moves the double-wall tube's force by 1.1 % at 0.01 in, docs/barrel.md), so
+  (CalculiX's NLGEOM moves the double-wall tube's force by 1.1 % at 0.01 in, docs/notes/barrel.md),
+  so
   the explicit squeeze, relaxed, must give the static MITC4 force on the same mesh (42.7 lbf):
   - with the co-rotational MITC4 shells (the default) the element is the statics' own, and
     what is left are the contacts: the insert's penalty contact (SLSFAC 0.1) in series with the
-    walls, against the statics' stiff one (about 0.5 %, docs/barrel.md), and the reading's
+    walls, against the statics' stiff one (about 0.5 %, docs/notes/barrel.md), and the reading's
     settling (force drift up to 0.3 % over the window): 4 % allowed, measured -3.2 %;
   - with the one-point Belytschko-Tsay shells, up to the two elements' discretisation
     difference as well: 3.4 % for a smooth bending field on an 8 x 8 plate (test_shell_bt), so
     6 % on these 0.4 x 0.44-in cells with the platen's concentrated load. Measured: -4.2 % with
     hourglass ratio 1; with LS-DYNA's 0.01 the hourglass patterns under the platen take 17 %
-    off (docs/barrel.md).
+    off (docs/notes/barrel.md).
 * **Geometric nonlinearity, sized by CalculiX.** CalculiX's NLGEOM / linear force on the
-  double-wall tube falls from 0.989 at 0.01 in to 0.932 at 0.07 in (docs/barrel.md,
+  double-wall tube falls from 0.989 at 0.01 in to 0.932 at 0.07 in (docs/notes/barrel.md,
   benchmarks/ccx_barrel_nlgeom.py): 5.8 % of softening over the test's travel. The explicit
   force over the static one must fall between 0.005 and 0.07 in by 2-10 % (a different model:
   the tube is 10 in of solids with its walls tied; measured 4.0 % with the MITC4 shells).

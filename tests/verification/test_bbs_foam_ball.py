@@ -12,13 +12,14 @@ report). Checked here on coarse meshes:
   1.9e-6 for the foam, 2.3e-7 for MAT_006), and a spinning, squashed foam ball in free flight
   keeps its angular momentum to round-off (the foam kernel's forces have no net moment).
 
-Open (docs/bbs.md): at a pivot 24 in from the knob the foam ball changes the angular momentum
+Open (docs/notes/bbs.md): at a pivot 24 in from the knob the foam ball changes the angular momentum
 by 7.4e-5 of itself (MAT_006: 3.3e-7). The lever is 4 in there against 22 in at the seed's
 pivot, which makes a given absolute error 5.5 times larger relative to L; the rest is not
 explained. The free-flight check points at the contact on the strongly deformed ball surface
 rather than the foam kernel.
 
-Measured beside these (docs/bbs.md), not asserted: the held bat gives e_A 0.715 where the impact
+Measured beside these (docs/notes/bbs.md), not asserted: the held bat gives e_A 0.715 where the
+impact
 lab's CCOR of the same ball and mesh is 0.723 (for the MAT_006 balls the two differ by -0.025 and
 -0.098 on these meshes, so no tolerance for it follows from them); at the 24-in pivot
 (k = 0.03) e_A is 0.656 against (e - k) / (1 + k) = 0.663, where the viscoelastic ball meets the

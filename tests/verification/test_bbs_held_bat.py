@@ -6,7 +6,7 @@ be the impact lab's CCOR run with a 2.25-in rigid cylinder: the same ball mesh, 
 hourglass and contact stiffness, but an analytic surface instead of the bat's shells with their
 thickness offsets and the segment contact both ways.
 
-Measured (docs/bbs.md, "Held bat against the cylinder"): 8-division ball, 110 mph, 32 x 0.2-in
+Measured (docs/notes/bbs.md, "Held bat against the cylinder"): 8-division ball, 110 mph, 32 x 0.2-in
 bat: type 2 0.4250 against 0.4261 (type 1 0.3075 against 0.3083); 48 x 0.1 in: 0.4248. The
 32-gon's flats lie 0.005 in inside the circle and the contact patch spans a few facets, so
 0.005 is allowed (the 2.63-in cylinder's CCOR is 0.007 lower, so the test also tells the two

@@ -10,7 +10,7 @@ does depend on how long the contact lasts, and the contact on a recoiling bat is
   the recoil hardly changes the contact);
 * at the seed's pivot (k = 0.45 on this coarse ball) the measured BBCOR e_A (1 + k) + k lies
   below the held-still COR by the duration effect, measured at 0.02-0.05 on these meshes for
-  an elastic and a viscoelastic ball alike and shrinking with k (docs/bbs.md), so the bound is
+  an elastic and a viscoelastic ball alike and shrinking with k (docs/notes/bbs.md), so the bound is
   0.06, and it is checked against the independent route through the bat's angular velocity.
 
 Angular momentum about the pivot axis is conserved through the impact for the rigid and the
@@ -105,7 +105,7 @@ def test_dynamic_relaxation_presses_the_insert_to_the_thin_ring_pressure(
     rings' compliance + 1 / k), 87.5 psi on this coarse mesh (SLSFAC E / diagonal is soft on
     0.5-in elements). 2 %: the static solve of the same 16-sided mesh with a stiff penalty
     gives the thin ring to 0.03 % (lab/barrel), and the relaxation leaves 0.5-0.9 % unsettled on
-    three meshes (16 x 0.5, 32 x 0.2, 48 x 0.1 in; docs/bbs.md)."""
+    three meshes (16 x 0.5, 32 x 0.2, 48 x 0.1 in; docs/notes/bbs.md)."""
     spec = load_bat_spec("default")
     model = runs[name].model
     pair = model.coupled.contacts[model.coupled.ball_contacts]

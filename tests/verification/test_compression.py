@@ -40,7 +40,7 @@ def test_an_elastic_sphere_between_plates_follows_hertz() -> None:
     (radius sqrt(R d/2) < 0.38 in) is narrower than two surface elements (0.37 in each) and the
     mesh, not Hertz, sets the force, so nothing is asserted there. Over the range the curve steps
     as each ring of surface nodes reaches the plate (single points stray by up to 9 % on finer
-    meshes, docs/compression.md); the fitted factor averages those steps. Hertz is the
+    meshes, docs/notes/compression.md); the fitted factor averages those steps. Hertz is the
     small-strain limit: at d/2R = 6.5 % its own error is a few per cent.
     """
     nu = 0.499

@@ -44,7 +44,7 @@ from batball.specs.bat import BatSpec, load_bat_spec
 
 IN, LBF, MPH = 0.0254, 4.4482216152605, 0.44704
 # double precision on both sides: the deck carries the model, and single-precision round-off
-# (docs/precision.md) would blur the 1e-9 comparison the long format allows
+# (docs/notes/precision.md) would blur the 1e-9 comparison the long format allows
 SETUP = BbsSetup(ball_divisions=3, circumferential=8, axial_size=1.0 * IN, pivot_band=0.5 * IN,
                  precision="double")  # fmt: skip
 

@@ -43,7 +43,7 @@ def test_export_read_run_equals_direct_run(
 ) -> None:
     ball = load_ball_spec("type1")
     # double on both sides: the deck carries the model, and single-precision round-off
-    # (docs/precision.md) would blur the 1e-9 comparison the long format allows
+    # (docs/notes/precision.md) would blur the 1e-9 comparison the long format allows
     setup = ImpactSetup(test, mph * MPH, divisions=3, precision="double")
     direct = run_impact(ball, setup)
     path = tmp_path / f"{test}.k"

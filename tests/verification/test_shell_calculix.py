@@ -47,7 +47,7 @@ NU_CB = 0.4
 ANGLES_DEG = (0.0, 45.0, -45.0, 90.0, 30.0)
 LAYER_THICKNESS = 0.4e-3  # m
 LENGTH, MID_RADIUS = 0.5, 0.0275  # m
-#: 32 around: batball's ovalling error is about +2.7 % with 24 (docs/modal.md), +0.8 % here.
+#: 32 around: batball's ovalling error is about +2.7 % with 24 (docs/notes/modal.md), +0.8 % here.
 CIRCUMFERENTIAL, AXIAL = 32, 25
 N_MODES = 16
 

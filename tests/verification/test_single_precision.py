@@ -4,7 +4,8 @@ The double kernel is checked against a plain per-element reference (tests/unit/e
 the single kernel, LS-DYNA's default precision and the impact lab's default, must give the same
 test results. float32 round-off (eps 6e-8) in each element's stress and force feeds the run as
 a random perturbation; the observed differences are about 1e-6 in CCOR and 1e-4 relative in
-dynamic stiffness and peak force (4-division ball, docs/precision.md). The bounds below are ten
+dynamic stiffness and peak force (4-division ball, docs/notes/precision.md). The bounds below are
+ten
 times those and two orders of magnitude under the issue's targets against LS-DYNA (0.01 in
 CCOR, 5 % in DS and peak force, 10 % in contact time).
 """

@@ -8,7 +8,7 @@ data, so that it can travel to a process-pool or Dask worker and into the study 
 Compression in a calibration (docs/calibration.md, "Compression targets"): one run per candidate
 ball, on at most :data:`COMPRESSION_DIVISIONS` divisions and at the solver loading rate
 :data:`COMPRESSION_RATIO`, read as the power-law value at 0.25 in. Those are the coarsest
-settings whose number means something (docs/compression.md): 6 divisions reads 25 % low, the
+settings whose number means something (docs/notes/compression.md): 6 divisions reads 25 % low, the
 8- and 10-division power-law values agree within 1.2 %, and ratio 30 moves the force by 0.9 %
 against the default 60 at half the steps.
 """
@@ -30,7 +30,7 @@ EVALUATION_VERSION = 1
 
 #: Finest ball mesh of a compression run in a calibration (a type-1 run on the 12-division mesh
 #: costs 2 min on the idle machine, 6-30 min on the loaded one; 8 divisions is the coarsest that
-#: reads within about 5 % of it, docs/compression.md).
+#: reads within about 5 % of it, docs/notes/compression.md).
 COMPRESSION_DIVISIONS = 8
 #: Solver loading rate of a compression run in a calibration (the test's own default is 60).
 COMPRESSION_RATIO = 30.0

@@ -1,6 +1,6 @@
 """A virtual DMA of a foam ball's material (MAT_057, MAT_083): E'(w), E''(w).
 
-A foam truth ball (docs/calibration-routes.md, "A foam truth") has no closed-form complex
+A foam truth ball (docs/notes/calibration-routes.md, "A foam truth") has no closed-form complex
 modulus: its loading curve is nonlinear, it unloads on a damaged curve (HU, SHAPE) and MAT_057
 adds a Maxwell rate stress (ED, BETA1). Its DMA data are therefore *measured*, as a lab would:
 one material point, the foam's own update (:func:`batball.materials.foam_update.foam_stress`

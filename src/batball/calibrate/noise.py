@@ -5,7 +5,7 @@ own virtual-test results and its exact DMA moduli. A lab's are not. :func:`write
 reads an exact data folder and writes a copy whose targets and DMA moduli carry Gaussian noise
 of stated standard deviations (:class:`NoiseLevels`), drawn from ``numpy.random.default_rng``
 with a given seed, so that a draw is reproducible and the spread of what each route recovers
-over a few draws can be measured (docs/calibration-routes.md, "Measurement noise").
+over a few draws can be measured (docs/notes/calibration-routes.md, "Measurement noise").
 
 The default levels are *assumed* lab repeatabilities (one standard deviation); no published
 precision statement for ASTM F1887 (COR), F2845 (CCOR, DS) or a DMA master curve was found:

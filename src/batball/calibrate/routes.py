@@ -11,7 +11,7 @@ A *route* is a kind of ball data and the way a ball model is fitted to it:
 :func:`compare_routes` calibrates by every route given, runs the batted-ball-speed test with
 each calibrated ball and tabulates the predictions. :func:`measure_synthetic` writes the data
 of each route for a known "true" ball, so that what each route recovers can be checked against
-the truth (docs/calibration-routes.md).
+the truth (docs/notes/calibration-routes.md).
 """
 
 from __future__ import annotations
@@ -286,8 +286,9 @@ def compare_routes(
     truth: BallSpec | None = None,
 ) -> dict[str, Any]:
     """Calibrate by each route, run the BBS test of each calibrated ball at each speed (and the
-    ``truth``'s, if given), and tabulate: the JSON-able comparison (docs/calibration-routes.md).
-    ``measured``: {speed mph: measured BBS mph} (may lack speeds)."""
+    ``truth``'s, if given), and tabulate: the JSON-able comparison
+    (docs/notes/calibration-routes.md). ``measured``: {speed mph: measured BBS mph} (may lack
+    speeds)."""
     from batball.lab.bbs_run import run_bbs_test
 
     def bbs_of(ball: BallSpec) -> dict[str, float]:

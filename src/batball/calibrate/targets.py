@@ -51,7 +51,7 @@ class Quantity:
         tolerance: the issue's goal as a relative error (CCOR 1 %, peak 3 %, DS and contact
             time 5 %; the flat wall's peak force 3 % like the cylinder's; compression 5 %, the
             scatter of its reading between meshes,
-            docs/compression.md); residuals are divided by it so that every goal weighs the
+            docs/notes/compression.md); residuals are divided by it so that every goal weighs the
             same.
     """
 

@@ -22,7 +22,7 @@ ring after ring. The node touches the polyline through that column:
   and, p being unchanged by a rigid motion, it has no net force or moment (momentum and
   angular momentum about the pivot are kept). The unit tests check the forces against finite
   differences of the energy.
-* Why this and not the alternatives tried (docs/bbs.md, "Pre-stress length"): against the
+* Why this and not the alternatives tried (docs/notes/bbs.md, "Pre-stress length"): against the
   barrel's facets (:class:`batball.contact.segments.SegmentContact`) the insert's nodes sit
   under the facets' corners, where the penetration has a kink, and the full-size bat's
   pre-stress grew a local mode instead of settling, with the facets' normals or smoothed ones.
@@ -36,7 +36,7 @@ ring after ring. The node touches the polyline through that column:
   where the gradient form ends at 5e-5 J (ratio 0.008).
 * Friction (optional, off by default; :meth:`ColumnContact.start_friction`): Coulomb, with the
   pair's penalty as the stick spring and the slip measured at the column's material point;
-  not conservative, and acting a wall apart it carries a small moment (docs/bbs.md).
+  not conservative, and acting a wall apart it carries a small moment (docs/notes/bbs.md).
 """
 
 from __future__ import annotations

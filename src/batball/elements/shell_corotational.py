@@ -2,7 +2,7 @@
 
 The one-point Belytschko-Tsay shells (:mod:`batball.elements.shell_bt`) carry artificial
 hourglass stiffness that sets part of the answer under a nearly point load: the barrel test's
-platens (docs/barrel.md, "Why r = 1 stays 7-8 % soft"). This module gives the explicit solvers
+platens (docs/notes/barrel.md, "Why r = 1 stays 7-8 % soft"). This module gives the explicit solvers
 the fully integrated MITC4 element of the statics (:mod:`batball.elements.shell_stiffness`:
 2 x 2 Gauss membrane and bending with the centre-sampled membrane shear, MITC4 transverse
 shear, the drilling penalty), made geometrically nonlinear by the element-independent

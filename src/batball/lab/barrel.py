@@ -23,7 +23,7 @@ penalty-contact problem with the interference gaps still in place (so the pre-st
 initial state), factorised once per orientation with the platen gaps condensed
 (:class:`batball.solvers.static_contact.CondensedContact`). Preload = F(0.02 in); final load =
 F(0.07 in) - F(0.02 in) (the seed's "zeroed" force: its FE pair 155 / 386 lbf is in the linear
-ratio 2.5 that this definition gives; docs/barrel.md weighs the other readings).
+ratio 2.5 that this definition gives; docs/notes/barrel.md weighs the other readings).
 """
 
 from __future__ import annotations
@@ -184,7 +184,7 @@ def compress_barrel(model: BarrelModel, prestress: Prestress, options: BarrelTes
 
 
 #: The stick spring of a frictional insert pair over its normal penalty: 0.01 and 0.03 give the
-#: same loads to 0.01 lbf (docs/barrel.md); from 0.1 up the stick-slip iteration cycles.
+#: same loads to 0.01 lbf (docs/notes/barrel.md); from 0.1 up the stick-slip iteration cycles.
 STICK_FACTOR = 0.01
 
 
@@ -246,8 +246,8 @@ def compress_barrel_with_friction(
     path count).
 
     The fit is the frictionless pre-stress (the insert is pressed in axially, so its radial fit
-    is taken to have slid to the frictionless state; docs/barrel.md): at zero travel every pair
-    sticks with no traction, and the platens' travel then loads the interface. The bottom
+    is taken to have slid to the frictionless state; docs/notes/barrel.md): at zero travel every
+    pair sticks with no traction, and the platens' travel then loads the interface. The bottom
     platen's first-touch gap is a two-sided spring (it holds the bat against rigid motion
     along the load, as the frictionless solve's assumed-closed gap; it stays compressed). The
     force read is the top platen's along the load, its friction's share included."""

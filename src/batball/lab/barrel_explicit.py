@@ -2,13 +2,13 @@
 
 The static test of :mod:`batball.lab.barrel` is linear: small displacements, contact normals
 fixed at first touch. The platens' 0.07 in of travel on a 1.1-in radius is not small (CalculiX's
-NLGEOM takes 8.6 % off the final load of a double-wall tube, docs/barrel.md), so this module runs
-the same protocol on the bat of the batted-ball-speed test with shells that work in each
+NLGEOM takes 8.6 % off the final load of a double-wall tube, docs/notes/barrel.md), so this module
+runs the same protocol on the bat of the batted-ball-speed test with shells that work in each
 element's current co-rotational frame, so that large rotations and the current geometry come
 with them, as in the seed's LS-DYNA model: by default the statics' own MITC4 element made
 co-rotational (:mod:`batball.elements.shell_corotational`), or the BBS test's one-point
 Belytschko-Tsay shells (:mod:`batball.elements.shell_bt`, ``shell="bt"``), whose hourglass
-control sets part of the answer under the platens' nearly point load (docs/barrel.md). The
+control sets part of the answer under the platens' nearly point load (docs/notes/barrel.md). The
 static answer is reached by dynamic relaxation (physics.md 6.7), the platens moved slowly and
 each travel level held until the bat stops moving.
 
@@ -31,7 +31,7 @@ each travel level held until the bat stops moving.
   slow bending (tens of ms). Penalty k = ``contact_scale`` m / dt^2 per node (the stability
   form of LS-DYNA's SOFT = 1), m the node's mass, dt the BT shells' step estimate with either
   shell, so that the MITC4 shells' longer step does not soften it (halving k raised the final
-  load by 1.4 % on the full mesh, docs/barrel.md). The penalty's own compliance is removed by
+  load by 1.4 % on the full mesh, docs/notes/barrel.md). The penalty's own compliance is removed by
   moving the platens on by the deepest penetrations (low-pass filtered), so the reported travel
   is that of the surface under the platens, as the static test's stiff penalty gives.
 * **Supports:** the seed's (Figures 11-12), as the static test: the barrel and insert rings
@@ -41,7 +41,7 @@ each travel level held until the bat stops moving.
   displacement since the squeeze began, as :func:`batball.elements.shell_explicit.
   dynamic_relaxation`) was tried first: the quotient is dominated by the stiff squeezed ring,
   and its holds still drifted by 1 % after 4 ms where c = 1e4 /s settles to 1e-5 in 1 ms
-  (docs/barrel.md, "Geometric nonlinearity").
+  (docs/notes/barrel.md, "Geometric nonlinearity").
 * **Force:** the top platen's reaction along the load axis, averaged over the last
   ``average_fraction`` of each hold. Preload F(0.02 in), final F(0.07 in) - F(0.02 in).
 """

@@ -101,7 +101,7 @@ class BbsMeasures:
         bbs: e_A v_pitch + (1 + e_A) v_bat [m/s].
         peak_force: largest ball-bat contact force after a 0.02-ms moving average [N] (a lab load
             cell's bandwidth; the raw history has one-cycle spikes where single ball nodes first
-            touch, see docs/bbs.md); peak_force_raw: the unfiltered largest [N];
+            touch, see docs/notes/bbs.md); peak_force_raw: the unfiltered largest [N];
             contact_time: first to last touch [s].
         energy_balance_error: largest |balance| over the initial kinetic energy.
         angular_momentum_change: |L_end - L_0| / |L_0| about the pivot axis.

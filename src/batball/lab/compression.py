@@ -28,7 +28,7 @@ the true time axis):
 Quasi-static checks reported with every run: kinetic over internal energy at the end, the
 top-bottom force difference, and the energy balance against the plates' work. That the answer
 does not depend on the solver's loading rate is shown by running two ratios
-(``tests/verification/test_compression.py``, ``docs/compression.md``).
+(``tests/verification/test_compression.py``, ``docs/notes/compression.md``).
 """
 
 from __future__ import annotations
@@ -71,7 +71,7 @@ class CompressionResult:
             definition).
         compression_fit: the same force from the least-squares power law F = C d^(3/2) over
             the last 40 % of the travel [N]: it averages the steps the curve takes as each ring
-            of surface nodes reaches a plate (docs/compression.md), so it varies less with
+            of surface nodes reaches a plate (docs/notes/compression.md), so it varies less with
             the mesh.
         compression: the force at ``setup.displacement`` [N].
         kinetic_to_internal: kinetic over internal energy at the end.

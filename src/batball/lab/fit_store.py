@@ -2,7 +2,7 @@
 
 The BBS test and the explicit barrel test press the insert into the barrel by dynamic
 relaxation (:func:`batball.solvers.ball_bat.relax_fit`) before they start; on the full-size bat
-that is about a third of a BBS run (16 of 46 s, docs/bbs.md "Runtime"). As LS-DYNA writes the
+that is about a third of a BBS run (16 of 46 s, docs/notes/bbs.md "Runtime"). As LS-DYNA writes the
 relaxed state to ``drdisp.sif`` and later runs start from it, the relaxed state is stored in
 ``<runs>/fit-<hash>/`` (``fit.npz``, then ``summary.json``, both atomic) and reused by every
 later run of the same bat model: the eight runs of Table 9 relax the fit once.

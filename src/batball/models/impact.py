@@ -43,7 +43,7 @@ class ImpactSetup:
         contact_threshold: contact-time threshold, fraction of the peak force.
         precision: the hex kernel's element arithmetic, "single" (the default, as LS-DYNA's
             default executable) or "double" (``ExplicitControls.precision``; the two agree to
-            about 1e-6 in CCOR, docs/precision.md).
+            about 1e-6 in CCOR, docs/notes/precision.md).
     """
 
     test: str

@@ -566,7 +566,8 @@ def solve_frictional_step(
     opens or closes only past ``hysteresis`` (m) from its state. Converged when the sets no
     longer change and the out-of-balance force is below ``rtol`` of the largest of the loads
     and the penalty forces; the step's slips are then the next anchor. Solves: CG on the last
-    factor (``reuse``), a new factorisation when CG stalls. Other schemes tried: docs/barrel.md.
+    factor (``reuse``), a new factorisation when CG stalls. Other schemes tried:
+    docs/notes/barrel.md.
 
     Raises:
         SimulationError: singular system, or no convergence in ``max_iterations`` solves.

@@ -55,7 +55,7 @@ def test_compression_target_takes_one_compression_run_per_candidate(tmp_path: Pa
     assert base.simulated[1] == pytest.approx(lab.compression_fit, rel=1e-12)
     assert base.residuals[1] == pytest.approx((lab.compression_fit / (375 * LBF) - 1) / 0.05)
     # the relaxed ball is elastic: the force scales with E*(K, G_inf) (Hertz); 5 % on this
-    # 448-hex mesh, whose contact patch spans one or two elements (docs/compression.md)
+    # 448-hex mesh, whose contact patch spans one or two elements (docs/notes/compression.md)
     expected = relaxed_e_star(ball.material.values["bulk_modulus"], doubled["g_inf"]) / (
         relaxed_e_star(ball.material.values["bulk_modulus"], ball.material.values["g_inf"])
     )

@@ -42,7 +42,7 @@ def test_dask_local_cluster_gives_the_same_evaluations_as_the_process_pool() -> 
     for a, b in zip(found, expected, strict=True):
         assert a.values == b.values
         # The same runs: a worker that compiled the kernels and one that loaded them from
-        # Numba's cache run code that rounds alike (docs/precision.md; before the fast-math
+        # Numba's cache run code that rounds alike (docs/notes/precision.md; before the fast-math
         # flags lost ``reassoc`` these points differed by up to 1.1e-6). Not bit for bit: in
         # CI the pool's and the cluster's CCOR once differed in the last bit (1.4e-16) with the
         # peak force equal, so the trajectories were the same and the bit comes from the

@@ -44,7 +44,7 @@ def test_linear_foam_with_a_maxwell_term_has_the_standard_solid_moduli() -> None
 
 def _damaged_path_moduli(hu: float, shape: float, protocol: DmaProtocol) -> tuple[float, float]:
     """First harmonic of the steady cycle s(e) = (1 - D) f(e), D = (1 - HU)(1 - (W/W_max)^SHAPE),
-    W = int_0^e f, W_max = W(e_0 + a), written from docs/foams.md with np.interp (independent
+    W = int_0^e f, W_max = W(e_0 + a), written from docs/notes/foams.md with np.interp (independent
     of the kernel)."""
     strain = np.array([0.0, 0.05, 0.1, 0.2]) * 1.0
     stress = np.array([0.0, 150.0, 240.0, 330.0]) * PSI

@@ -3,7 +3,7 @@ answer is that of an uninterrupted study.
 
 "The same answer" is to the bit even when the sessions run differently compiled code: with an
 empty Numba cache the killed session compiles the kernels and the later ones load them from the
-cache, and since the fast-math flags lost ``reassoc`` both round alike (docs/precision.md).
+cache, and since the fast-math flags lost ``reassoc`` both round alike (docs/notes/precision.md).
 Before, they differed at about 1e-6 per run, enough to change the path of this short,
 unconverged fit (0.27 % in g0 and beta), and the test had to fill the cache first."""
 

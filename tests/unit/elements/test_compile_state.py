@@ -3,7 +3,8 @@
 Numba links a copy of every non-inlined callee (a helper, a parallel loop's body) into each
 cached kernel and optimises it again there. A process that compiles the kernel calls the callee's
 first copy; a process that loads the kernel from the cache runs the kernel's own copy. With
-fast-math reassociation the two copies rounded differently (docs/precision.md, "Same input, same
+fast-math reassociation the two copies rounded differently (docs/notes/precision.md, "Same input,
+same
 bits, compiled or cached"): the fast-math flags (``batball.numerics.FASTMATH``) now leave
 ``reassoc`` out, so that a second optimisation may not regroup a sum.
 

@@ -23,7 +23,7 @@ differences).
 Different kernels are compared to round-off. The blocked and the scalar kernel are different
 code. The fused and slot kernels gave the cell-force kernel's bits whenever both were compiled
 in one state, but not when one was compiled and the other loaded from Numba's cache, until the
-fast-math flags lost ``reassoc`` (``test_compile_state.py``; docs/precision.md); they are
+fast-math flags lost ``reassoc`` (``test_compile_state.py``; docs/notes/precision.md); they are
 checked to RTOL since. The thread-count check below stays bitwise: it runs one compiled kernel
 twice.
 """
