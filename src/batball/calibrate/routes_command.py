@@ -151,24 +151,19 @@ def _speeds_mph(args: argparse.Namespace) -> list[float]:
 
 
 def _bbs_setup(args: argparse.Namespace) -> Any:
-    """The BBS setup of the options (the speed is set per run)."""
-    from batball.lab.registry import AXIAL_SIZE, CIRCUMFERENTIAL, PIVOT, parse_options
-    from batball.models.bbs import BbsSetup
-    from batball.units import parse_quantity
+    """The BBS setup of the options, built by the lab registry's bbs entry (the speed is set per
+    run); the time-step scale, which ``batball bbs`` does not take, is set on it after."""
+    import dataclasses
 
-    if not 2 <= args.divisions <= 40:
-        raise SpecError("divisions", args.divisions, "an integer 2..40")
+    from batball.lab.registry import LAB_TESTS
+
     if not 0.0 < args.time_step_scale <= 1.0:
         raise SpecError("time-step-scale", args.time_step_scale, "0 < scale <= 1")
-    mesh = parse_options((CIRCUMFERENTIAL, AXIAL_SIZE, PIVOT), args)
-    return BbsSetup(
-        time_step_scale=args.time_step_scale,
-        ball_divisions=args.divisions,
-        circumferential=mesh["circumferential"],
-        axial_size=mesh["axial_size"],
-        pivot_from_knob=mesh["pivot"],
-        end_time=parse_quantity(args.end_time, "time", field="end-time"),
-    )
+    setup = LAB_TESTS["bbs"].setup(
+        divisions=args.divisions, circumferential=args.circumferential,
+        axial_size=args.axial_size, pivot=args.pivot, end_time=args.end_time,
+    )  # fmt: skip
+    return dataclasses.replace(setup, time_step_scale=args.time_step_scale)
 
 
 def route_data(args: argparse.Namespace, ball_name: str) -> list[Any]:

@@ -12,42 +12,55 @@ from batball.cli.options import add_json_option, add_options, add_subject, progr
 from batball.errors import SpecError
 from batball.lab.protocol import Option
 from batball.lab.registry import (
-    AXIAL_SIZE,
-    BULK_VISCOSITY,
-    CIRCUMFERENTIAL,
     CONTACT_THRESHOLD,
     DISPLACEMENT,
-    DIVISIONS,
-    HOURGLASS_COEFFICIENT,
-    HOURGLASS_TYPE,
     LAB_TESTS,
-    MODES,
-    PIVOT_BAND,
     PRECISION,
-    SOFT,
-    SPEED,
-    ball_numerics,
     load_subject,
     parse_options,
 )
 
-#: The bat tests ``batball export`` writes as decks (the ball tests are ccor, cor, compression).
-BAT_EXPORTS = ("modal", "barrel", "bbs")
+#: The tests ``batball export`` writes as decks.
+EXPORTS = ("ccor", "cor", "compression", "modal", "barrel", "bbs")
 
-#: The ball options of ``batball export``: the registry's, the speed defaulting to the test's.
-EXPORT_BALL_OPTIONS = (
-    SPEED.with_default(None, "inbound speed with its unit (default: the test's)"),
-    DIVISIONS, HOURGLASS_TYPE, HOURGLASS_COEFFICIENT, BULK_VISCOSITY, SOFT,
-)  # fmt: skip
+#: Per test, the options a deck cannot carry: the value the deck does carry and what it does.
+#: ``batball export TEST`` takes the test's own options, so a deck is what ``batball TEST`` runs;
+#: one of these set to anything else is refused. The options that only choose how batball runs
+#: or reads a test (the ball's arithmetic, the contact-time level, the BBS's pitch and swing
+#: speeds, the statics' ramp) do not change the deck and are accepted.
+NOT_IN_DECK: dict[str, dict[str, tuple[Any, str]]] = {
+    "modal": {"insert": ("bonded", "bonded (the deck ties the insert to the barrel)")},
+    "barrel": {
+        "friction": (0.0, "0 (the deck's insert contact is frictionless)"),
+        "platen_friction": (0.0, "0 (the deck's platen contacts are frictionless)"),
+        "solver": ("static", "static (the deck is the implicit static test)"),
+        "shell": (None, "not set (the deck is the implicit static test)"),
+        "hourglass_ratio": (None, "not set (the deck is the implicit static test)"),
+    },
+    "bbs": {
+        "insert_friction": (0.0, "0 (the deck's interference contact is frictionless)"),
+        "bat_damping": (0.0, "0 1/s (the deck has no damping of the bat's deformation)"),
+        "shell": ("bt", "bt (the deck's shells are Belytschko-Tsay, ELFORM 2)"),
+        "hourglass_ratio": (None, "not set (the deck writes no hourglass card for the shells)"),
+    },
+}
 
-#: The bat options of ``batball export`` (modal, barrel, bbs).
-EXPORT_BAT_OPTIONS = (
-    CIRCUMFERENTIAL, AXIAL_SIZE,
-    MODES,
-    Option("orientation", 0.0, "barrel: bat rotation about its axis, 0 or 90 deg",
-           kind="float"),
-    PIVOT_BAND,
-)  # fmt: skip
+#: ``batball export barrel``'s one option of its own: the deck holds one orientation.
+ORIENTATION = Option("orientation", 0.0, "bat rotation about its axis, 0 or 90 deg",
+                     kind="float")  # fmt: skip
+
+
+def export_options(name: str) -> tuple[Option, ...]:
+    """The options of ``batball export NAME``: the test's, each defaulting to what the deck
+    carries (help says so where that is not the test's default)."""
+    fixed = NOT_IN_DECK.get(name, {})
+    options = []
+    for option in LAB_TESTS[name].options:
+        if option.name in fixed and option.default_value != fixed[option.name][0]:
+            carried = fixed[option.name][0]
+            option = option.with_default(carried, f"{option.help}; a deck carries {carried} only")
+        options.append(option)
+    return (*options, ORIENTATION) if name == "barrel" else tuple(options)
 
 
 #: The options of ``batball run`` shared with the tests: the contact-time level, where a
@@ -60,44 +73,63 @@ DECK_RUN_OPTIONS = (
 
 
 def add_export_parser(sub: Any) -> None:
-    """``batball export ccor|cor|compression|modal|barrel|bbs``: the test as a keyword deck."""
+    """``batball export TEST``: the test as a keyword deck, with the test's own options."""
     help_text = "write a ball or bat test as a complete LS-DYNA keyword deck (docs/lsdyna.md)"
     p = sub.add_parser("export", help=help_text, description=help_text)
-    p.add_argument("test", choices=["ccor", "cor", "compression", *BAT_EXPORTS],
-                   help="the test to export")  # fmt: skip
-    add_subject(p, "ball")
-    add_options(p, EXPORT_BALL_OPTIONS)
-    p.add_argument("--units", default="in-lbf-s", help="in-lbf-s (default), m-N-s or mm-N-ms")
-    p.add_argument("--long", action="store_true", help="long format: 20-column fields")
-    p.add_argument("-o", "--output", required=True, help="the deck file to write (.k)")
-    add_subject(p, "bat")
-    add_options(p, EXPORT_BAT_OPTIONS)
+    tests = p.add_subparsers(dest="test", required=True, metavar="TEST",
+                             help=" | ".join(EXPORTS) + ": the test to export, with its options")
+    for name in EXPORTS:
+        test = LAB_TESTS[name]
+        q = tests.add_parser(name, help=f"{test.help} (as a deck)",
+                             description=f"{test.help}, written as a keyword deck")  # fmt: skip
+        for kind in test.subjects:
+            add_subject(q, kind)
+        add_options(q, export_options(name))
+        q.add_argument("--units", default="in-lbf-s", help="in-lbf-s (default), m-N-s or mm-N-ms")
+        q.add_argument("--long", action="store_true", help="long format: 20-column fields")
+        q.add_argument("-o", "--output", required=True, help="the deck file to write (.k)")
     p.set_defaults(handler=run_export_command)
+
+
+def export_setup(name: str, args: argparse.Namespace) -> tuple[Any, dict[str, Any]]:
+    """The test's Setup from the command's options, and the parsed values; an option the deck
+    cannot carry, set to anything else, is refused before anything is built."""
+    values = parse_options(export_options(name), args)
+    for option, (carried, what) in NOT_IN_DECK.get(name, {}).items():
+        if values[option] != carried:
+            raise SpecError(f"export {name} --{option.replace('_', '-')}", values[option], what)
+    test = LAB_TESTS[name]
+    return test.build({o.name: values[o.name] for o in test.options}), values
 
 
 def run_export_command(args: argparse.Namespace) -> int:
     """Write the deck and say where."""
-    from batball.lsdyna.export import write_impact_deck
+    setup, values = export_setup(args.test, args)
+    kinds = LAB_TESTS[args.test].subjects
+    subjects = {kind: load_subject(kind, getattr(args, kind)) for kind in kinds}
+    common = {"units": args.units, "long": args.long}
+    if args.test in ("ccor", "cor", "compression"):
+        from batball.lsdyna.export import write_impact_deck
 
-    values = parse_options(EXPORT_BALL_OPTIONS, args)
-    if args.test in BAT_EXPORTS:
-        return run_bat_export(args, values)
-    ball = load_subject("ball", args.ball)
-    if args.test == "compression":
-        from batball.models.compression import CompressionSetup
+        ball = subjects["ball"]
+        n_lines = write_impact_deck(args.output, ball, setup, args.units, long=args.long)
+        print(f"wrote {args.output}: {args.test} of ball {ball.name}, {n_lines} lines, "
+              f"units {args.units}")  # fmt: skip
+        return 0
+    from batball.lsdyna.bat import barrel_deck, bbs_deck, modal_deck
 
-        numerics = ball_numerics(values)
-        setup: Any = CompressionSetup(divisions=values["divisions"],
-                                      hourglass=numerics["hourglass"],
-                                      bulk_viscosity=numerics["bulk_viscosity"])  # fmt: skip
-        what = "compression (F1888, 1 in/min to 0.25 in)"
+    spec = subjects["bat"]
+    mesh = {"circumferential": setup.circumferential, "axial_size": setup.axial_size}
+    if args.test == "modal":
+        text = modal_deck(spec, n_modes=setup.modes, **common, **mesh)
+    elif args.test == "barrel":
+        text = barrel_deck(spec, setup.protocol, orientation_deg=values["orientation"],
+                           **common, **mesh)  # fmt: skip
     else:
-        test = LAB_TESTS[args.test]
-        speed = args.speed or test.option("speed").default
-        setup = test.setup(**{**values, "speed": speed})
-        what = f"{args.test} at {speed}"
-    n_lines = write_impact_deck(args.output, ball, setup, args.units, long=args.long)
-    print(f"wrote {args.output}: {what} of ball {ball.name}, {n_lines} lines, units {args.units}")
+        text = bbs_deck(spec, subjects["ball"], setup, **common)
+    Path(args.output).write_text(text, encoding="ascii")
+    print(f"wrote {args.output}: {args.test} of bat {spec.name}, {text.count(chr(10))} lines, "
+          f"units {args.units}")  # fmt: skip
     return 0
 
 
@@ -173,43 +205,6 @@ def run_deck_command(args: argparse.Namespace) -> int:
         f"  {summary['n_cells']} hexes, {summary['n_steps']} steps",
     ]))  # fmt: skip
     return 0
-
-
-def run_bat_export(args: argparse.Namespace, ball_values: dict[str, Any]) -> int:
-    """Write a bat test's deck (modal, barrel or bbs) and say where."""
-    from batball.lsdyna.bat import barrel_deck, bbs_deck, modal_deck
-
-    spec = load_subject("bat", args.bat)
-    bat_values = parse_options(EXPORT_BAT_OPTIONS, args)
-    mesh = {k: bat_values[k] for k in ("circumferential", "axial_size")}
-    common = {"units": args.units, "long": args.long}
-    if args.test == "modal":
-        text = modal_deck(spec, n_modes=bat_values["modes"], **common, **mesh)
-    elif args.test == "barrel":
-        from batball.models.barrel import BarrelTestOptions
-
-        text = barrel_deck(spec, BarrelTestOptions(), orientation_deg=bat_values["orientation"],
-                           **common, **mesh)  # fmt: skip
-    else:
-        setup = bat_export_bbs_setup(ball_values, bat_values["pivot_band"], mesh)
-        text = bbs_deck(spec, load_subject("ball", args.ball), setup, **common)
-    Path(args.output).write_text(text, encoding="ascii")
-    print(f"wrote {args.output}: {args.test} of bat {spec.name}, {text.count(chr(10))} lines, "
-          f"units {args.units}")  # fmt: skip
-    return 0
-
-
-def bat_export_bbs_setup(values: dict[str, Any], pivot_band: float, mesh: dict[str, Any]) -> Any:
-    """The BbsSetup of ``batball export bbs``'s options (speed default: the bbs test's)."""
-    from batball.models.bbs import BbsSetup
-
-    speed = values["speed"]
-    if speed is None:
-        speed = LAB_TESTS["bbs"].option("speed").default_value
-    return BbsSetup(
-        speed=speed, ball_divisions=values["divisions"], pivot_band=pivot_band,
-        **ball_numerics(values), **mesh,
-    )  # fmt: skip
 
 
 def run_bat_deck_command(args: argparse.Namespace) -> int:

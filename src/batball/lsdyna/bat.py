@@ -445,7 +445,8 @@ def _bbs_lines(spec: BatSpec, ball: BallSpec, setup: BbsSetup, u: UnitSystem) ->
         f"{offset / IN:.4g} in from batball's pivot axis"
     ]
     lines += keyword("TITLE", {"title": f"batball bbs bat {spec.name} ball {ball.name} ({u.name})"})
-    lines += control_cards(setup, setup.end_time, u) + database_cards(u, 1e-6, 1e-5, 1e-4)
+    lines += control_cards(setup, setup.end_time, u, model.mass_scaling_step)
+    lines += database_cards(u, 1e-6, 1e-5, 1e-4)
     if setup.prestress:
         lines += interference_lines(spec, setup.end_time, u)
     elif spec.insert is not None:

@@ -97,6 +97,13 @@ def read_bbs_deck(
     band_x = bat.mesh.points[band, 0]
     middle = 0.5 * float(band_x.min() + band_x.max())
     controls = _controls(bat.deck, [ball_pid], u, separation_time)
+    step = bat.deck.controls.get("CONTROL_TIMESTEP", {})
+    dt2ms = step.get("dt2ms") or 0.0
+    if dt2ms > 0.0:
+        raise SpecError(f"*CONTROL_TIMESTEP.DT2MS at {step['where']}", dt2ms,
+                        "blank, 0 or negative (mass added only to the shells whose step is "
+                        "below TSSFAC |DT2MS|)")  # fmt: skip
+    mass_scaling = -dt2ms * u.time * controls.time_step_scale if dt2ms < 0.0 else None
     setup = BbsSetup(
         speed=ball_speed(bat, ball_pid, velocity), pitch_speed=pitch_speed,
         swing_speed=swing_speed, impact_from_cap=spec.length - float(centre[0]),
@@ -105,7 +112,8 @@ def read_bbs_deck(
         end_time=controls.end_time, separation_time=separation_time,
         time_step_scale=controls.time_step_scale, hourglass=_hourglass(bat.deck, [ball_pid]),
         bulk_viscosity=controls.bulk_viscosity, contact=ball_contact_options(bat, ball_pid),
-        rigid_bat=band.size == bat.mesh.n_points, precision=precision, **mesh_sizes(bat),
+        rigid_bat=band.size == bat.mesh.n_points, precision=precision, mass_scaling=mass_scaling,
+        **mesh_sizes(bat),
     )  # fmt: skip
     where = bat.deck.nodal_rigid_bodies[0]["where"]
     model = with_pivot(build_bbs_model(spec, ball, setup), band, where)

@@ -142,14 +142,19 @@ def node_lines(points: np.ndarray, start: int, u: UnitSystem) -> Iterable[str]:
         yield card("NODE", 0, {"nid": start + i, "x": x, "y": y, "z": z})
 
 
-def control_cards(setup: Any, end_time: float, u: UnitSystem) -> list[str]:
+def control_cards(setup: Any, end_time: float, u: UnitSystem,
+                  mass_scaling_step: float | None = None) -> list[str]:  # fmt: skip
     """*CONTROL_* cards: end time, TSSFAC, hourglass, bulk viscosity and the contact SLSFAC of a
-    test setup (ImpactSetup or CompressionSetup)."""
+    test setup (ImpactSetup, CompressionSetup or BbsSetup); with ``mass_scaling_step`` [s,
+    TSSFAC applied], mass scaling of the elements whose step is below it (DT2MS < 0)."""
     bv = setup.bulk_viscosity
     q1, q2 = (bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)
+    step = {"dtinit": 0.0, "tssfac": setup.time_step_scale}
+    if mass_scaling_step is not None:
+        step["dt2ms"] = -mass_scaling_step / setup.time_step_scale / u.time
     return [
         *keyword("CONTROL_TERMINATION", {"endtim": end_time / u.time}),
-        *keyword("CONTROL_TIMESTEP", {"dtinit": 0.0, "tssfac": setup.time_step_scale}),
+        *keyword("CONTROL_TIMESTEP", step),
         *keyword("CONTROL_HOURGLASS", {
             "ihq": setup.hourglass.type, "qh": setup.hourglass.coefficient}),
         *keyword("CONTROL_BULK_VISCOSITY", {"q1": q1, "q2": q2, "type": 1}),
@@ -341,7 +346,8 @@ def _compression_deck(ball: BallSpec, setup: CompressionSetup, u: UnitSystem) ->
         f"$ batball {__version__}: compression (ASTM F1888) of ball '{ball.name}', "
         f"{setup.divisions} divisions, plate {setup.rate / IN * 60:.6g} in/min",
         f"$ units {u.name}: {u.description}",
-        f"$ RO is mass-scaled by s = {scale:.6g} (batball quasi-static plan, docs/compression.md)",
+        f"$ RO is mass-scaled by s = {scale:.6g} (batball quasi-static plan, "
+        "docs/notes/compression.md)",
         "$ part 1 = ball, part 2 = top plate (moves -z), part 3 = bottom plate (fixed)",
         f"$ compression = mean plate force (RCFORC) at {setup.displacement / IN:.6g} in of ball "
         "deformation (plate travel minus penetrations)",

@@ -75,7 +75,7 @@ MUST_BE_ZERO = {
     "MAT_ELASTIC": ("da", "db", "k"),
     "HOURGLASS": ("ibq", "q1", "q2", "qb", "qw"),
     "CONTROL_TERMINATION": ("endcyc", "endeng", "endmas"),
-    "CONTROL_TIMESTEP": ("dt2ms", "lctm", "ms1st"),
+    "CONTROL_TIMESTEP": ("lctm", "ms1st"),  # DT2MS: a bbs deck's mass scaling (lsdyna.bat_bbs)
     "CONTACT_AUTOMATIC_SURFACE_TO_SURFACE": ("fs", "fd", "dc", "vc", "vdc", "bt", "dt", "saboxid",
                                              "sbboxid", "lcidab"),
     "INITIAL_VELOCITY_GENERATION": ("omega", "ivatn", "icid"),
@@ -361,6 +361,10 @@ def read_deck(
         raise SpecError(f"deck {path}", "no *ELEMENT_SOLID", "a hex-meshed body")
     mesh, node_ids = _solid_mesh(deck, u)
     constants, densities, cell_material = _materials(deck, solid_parts, u)
+    step = deck.controls.get("CONTROL_TIMESTEP", {})
+    if step.get("dt2ms"):
+        raise SpecError(f"*CONTROL_TIMESTEP.DT2MS at {step['where']}", step["dt2ms"],
+                        "blank or 0 (the ball tests have no mass scaling)")  # fmt: skip
     controls = _controls(deck, solid_parts, u, separation_time)
     velocity = _initial_velocity(deck, mesh, node_ids, u)
     contacts = _contacts(deck, mesh, constants, densities, controls, u, solid_parts)

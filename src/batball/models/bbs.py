@@ -70,26 +70,27 @@ class BbsSetup:
         prestress: press the insert in by dynamic relaxation before the impact (else its
             initial overlap is ignored and it just touches the barrel).
         relax_time: (ramp, settle) duration of that relaxation [s]; the cycles are these over
-            the stable step, so a finer mesh gets the same physical time (docs/bbs.md);
+            the stable step, so a finer mesh gets the same physical time (docs/notes/bbs.md);
             relax_steps: the fewest (ramp, settle) cycles, whatever the step.
         contact_reach: the ball-bat contact includes only the bat's outer shells and nodes
             within this distance of the impact station along the bat [m] (None: the whole
             bat); the 3-in default is the ball's radius plus about an inch, so no part of the
-            ball can reach beyond it during the impact (docs/bbs.md).
-        mass_scaling: selective mass scaling of the bat's shells (LS-DYNA DT2MS < 0, docs/bbs.md):
+            ball can reach beyond it during the impact (docs/notes/bbs.md).
+        mass_scaling: selective mass scaling of the bat's shells (LS-DYNA DT2MS < 0,
+            docs/notes/bbs.md):
             "barrel" (default) adds mass only to the shells whose step is below the smaller of
             the barrel's (its parts and the insert) and the ball's, so that those set the step;
             a float is the target step itself [s] (TSSFAC |DT2MS|); None: no mass added.
         precision: the ball's hex kernel, "single" (default, as the impact lab and LS-DYNA's
-            default executable) or "double" (docs/precision.md).
+            default executable) or "double" (docs/notes/precision.md).
         insert_friction: Coulomb coefficient between insert and barrel during the impact (the
             fit is pressed frictionless; 0, the default, as the seed's contact).
         shell_hourglass_ratio: r of the bat shells' hourglass constants (LS-DYNA's default
-            0.01; the barrel test's squeeze needs 1, docs/barrel.md).
+            0.01; the barrel test's squeeze needs 1, docs/notes/barrel.md).
         bat_damping: damping of the bat's deformation relative to its own rigid turn about
             the pivot, c [1/s] (the form of LS-DYNA's ``*DAMPING_RELATIVE``,
             :func:`batball.solvers.ball_bat.advance_bat`; fraction of critical c / (4 pi f) at
-            frequency f); 0, the default, as the seed (docs/bbs.md, "(b) tested").
+            frequency f); 0, the default, as the seed (docs/notes/bbs.md, "(b) tested").
         bat_shell: the bat's shell element, "bt" (default: the one-point Belytschko-Tsay
             shells, as the seed's LS-DYNA model) or "mitc4" (the statics' MITC4 made
             co-rotational, :mod:`batball.elements.shell_corotational`; no hourglass modes).
@@ -176,7 +177,9 @@ class BbsModel:
             (local ids); impact_x, pivot_x: stations along the bat [m]; z: their distance [m].
         interference: the insert's radial interference [m]; added_mass: (n_cells,) mass that
             selective mass scaling added to each shell [kg]; pivot_inertia: the bat's MOI about
-            the pivot without that mass [kg m^2] (the k of the BBCOR is the real bat's).
+            the pivot without that mass [kg m^2] (the k of the BBCOR is the real bat's);
+            mass_scaling_step: the step below which that mass was added [s, TSSFAC applied],
+            None when none was (:func:`mass_scaling_target`).
     """
 
     coupled: CoupledModel
@@ -187,6 +190,7 @@ class BbsModel:
     interference: float = 0.0
     added_mass: np.ndarray = field(default_factory=lambda: np.zeros(0))
     pivot_inertia: float = 0.0
+    mass_scaling_step: float | None = None
 
     @property
     def z(self) -> float:
@@ -196,7 +200,7 @@ class BbsModel:
 
 def check_hourglass_ratio(field: str, ratio: float) -> None:
     """The shells' hourglass ratio r must lie in (0, 1]: 1 is the largest tried; 10 made the
-    barrel test's squeeze unstable at the shells' step (docs/barrel.md)."""
+    barrel test's squeeze unstable at the shells' step (docs/notes/barrel.md)."""
     if not (np.isfinite(ratio) and 0.0 < ratio <= 1.0):
         raise SpecError(field, ratio, "a ratio 0 < r <= 1")
 
@@ -236,22 +240,31 @@ def bat_shell_state(
     return initial_rotations(mesh.n_points), shell_section(*bat_laminates(spec, mesh))
 
 
+def mass_scaling_target(mesh: ShellMesh, section: LayeredSection, setup: BbsSetup,
+                        ball_step: float) -> float | None:  # fmt: skip
+    """The step [s, TSSFAC applied] below which ``setup.mass_scaling`` adds mass to a shell
+    (LS-DYNA's TSSFAC |DT2MS|), or None when it adds none: "barrel" targets the smallest step
+    among the barrel's parts and the insert (where the ball hits, left untouched) or the ball's
+    step if smaller; a float is the target itself."""
+    if setup.mass_scaling is None or setup.rigid_bat or setup.fixed_bat:
+        return None
+    if setup.mass_scaling != "barrel":
+        return float(setup.mass_scaling)
+    steps = setup.time_step_scale * cell_stable_steps(mesh.points, mesh.cells, section)
+    names = [n for n in mesh.cell_sets if n.startswith("barrel") or n == "insert"]
+    if not names:
+        raise SpecError("mass_scaling", "barrel", "a bat with parts named barrel*")
+    barrel = np.concatenate([mesh.cell_sets[n] for n in names])
+    return min(float(steps[barrel].min()), ball_step)
+
+
 def scaled_areal_mass(mesh: ShellMesh, section: LayeredSection, setup: BbsSetup,
                       ball_step: float) -> np.ndarray:  # fmt: skip
-    """Areal mass that ``setup.mass_scaling`` adds to each cell, (n_cells,) [kg/m^2]: "barrel"
-    targets the smallest step among the barrel's parts and the insert (where the ball hits,
-    left untouched) or the ball's step if smaller; a float is the target [s]."""
-    if setup.mass_scaling is None or setup.rigid_bat or setup.fixed_bat:
+    """Areal mass that ``setup.mass_scaling`` adds to each cell, (n_cells,) [kg/m^2]
+    (:func:`mass_scaling_target`)."""
+    target = mass_scaling_target(mesh, section, setup, ball_step)
+    if target is None:
         return np.zeros(mesh.n_cells)
-    steps = setup.time_step_scale * cell_stable_steps(mesh.points, mesh.cells, section)
-    if setup.mass_scaling == "barrel":
-        names = [n for n in mesh.cell_sets if n.startswith("barrel") or n == "insert"]
-        if not names:
-            raise SpecError("mass_scaling", "barrel", "a bat with parts named barrel*")
-        barrel = np.concatenate([mesh.cell_sets[n] for n in names])
-        target = min(float(steps[barrel].min()), ball_step)
-    else:
-        target = float(setup.mass_scaling)
     return selective_mass_scaling(mesh.points, mesh.cells, section, target,
                                   time_step_factor=setup.time_step_scale)  # fmt: skip
 
@@ -352,7 +365,7 @@ def insert_barrel_contact(spec: BatSpec, bat: BatPart, mesh: ShellMesh,
     (:mod:`batball.contact.columns`), as the statics of the barrel test pair them: against the
     barrel's facets the insert's nodes sat on the facets' corners, the push turned or jumped as
     round-off moved a node across one, and the full-size bat's pre-stress grew a local mode
-    instead of settling (docs/bbs.md, "Pre-stress length")."""
+    instead of settling (docs/notes/bbs.md, "Pre-stress length")."""
     assert spec.insert is not None
     sec = bat.section
     insert = mesh.point_sets["insert"]
@@ -405,8 +418,9 @@ def build_bbs_model(spec: BatSpec, ball: BallSpec, setup: BbsSetup) -> BbsModel:
     unscaled = lumped_shell_mass(mesh.points, mesh.cells, bat.section,
                                  areal_mass=bat_areal_mass(spec, mesh))  # fmt: skip
     moi = moment_of_inertia_z(mesh.points, unscaled, bat.pivot)
+    target = mass_scaling_target(mesh, bat.section, setup, ball_step)
     return BbsModel(coupled, mesh, body.mesh.cells, impact_x, setup.pivot_from_knob, interference,
-                    added_mass, moi)  # fmt: skip
+                    added_mass, moi, target)  # fmt: skip
 
 
 def relaxation_cycles(setup: BbsSetup, step: float) -> tuple[int, int]:
@@ -414,7 +428,7 @@ def relaxation_cycles(setup: BbsSetup, step: float) -> tuple[int, int]:
     [s], at least ``setup.relax_steps``. The fit settles in physical time (the full-size mesh
     reached 76 psi of 92 in 1,200 cycles at 1.2e-7 s, 92.5 psi in 2,400 at 2.1e-7 s; with the
     column contact the table's mesh needs 0.64 ms of settling to come within 1 % of the
-    penalty-compliant thin ring: docs/bbs.md), so a finer mesh needs proportionally more
+    penalty-compliant thin ring: docs/notes/bbs.md), so a finer mesh needs proportionally more
     cycles."""
     return (max(setup.relax_steps[0], int(np.ceil(setup.relax_time[0] / step))),
             max(setup.relax_steps[1], int(np.ceil(setup.relax_time[1] / step))))  # fmt: skip
