@@ -31,14 +31,16 @@ from batball.specs import BallSpec, BatSpec
 
 
 def load_ball(ball: str | Path | BallSpec) -> BallSpec:
-    """A ball spec: an embedded ball by name (``"type1"``, ``"type2"``, ``"foam057"``,
-    ``"foam083"``), a ball TOML file by path, or a spec already loaded (returned as it is)."""
+    """A ball spec: an embedded ball by name (``"type1"``, ``"type2"``: the seed's;
+    ``"type1-fit"``, ``"type2-fit"``: the model of record's; ``"foam057"``, ``"foam083"``), a
+    ball TOML file by path, or a spec already loaded (returned as it is)."""
     return load_subject("ball", ball)
 
 
 def load_bat(bat: str | Path | BatSpec) -> BatSpec:
-    """A bat spec: the embedded ``"default"`` bat, a bat TOML file by path, or a spec already
-    loaded (returned as it is)."""
+    """A bat spec: an embedded bat (``"default"``: the reconstruction of the seed's;
+    ``"fitted"``: the model of record's), a bat TOML file by path, or a spec already loaded
+    (returned as it is)."""
     return load_subject("bat", bat)
 
 

@@ -1,7 +1,8 @@
 """``batball reproduce --quick`` end to end on the smallest meshes, opened in headless Chromium.
 
-The real runners run (props, modal, the four CCOR cases, the calibration of both balls); only the
-quick mesh sizes and the calibration's budget are shrunk so the whole report takes seconds once
+The real runners run (props, modal, barrel, compression, the CCOR and batted-ball-speed cases of
+the model of record and of the solver check, the refit of both seed balls); only the quick mesh
+sizes and the calibration's budget are shrunk so the whole report takes a minute or so once
 Numba's cache is warm. The browser check needs Debian's
 ``chromium`` (``.ci/run`` installs it) and is skipped, saying so, without it.
 """
@@ -20,13 +21,15 @@ import batball.report.reproduce as reproduce_module
 from batball.calibrate import OptimiserOptions
 from batball.cli import main
 
-TINY = reproduce_module.MeshSizes(ball_divisions=2, bat_circumferential=8, bat_axial_size=0.0254)
+TINY = reproduce_module.MeshSizes(ball_divisions=2, bat_circumferential=8, bat_axial_size=0.0254,
+                                  bbs=(3, 16, 0.0254))  # fmt: skip
 #: The calibration's smallest budget: the start and 1 Latin-hypercube point, 2 least-squares steps.
 TINY_CALIBRATION = OptimiserOptions(
     global_points=1, coarse_divisions=2, coarse_evaluations=2, fine_divisions=None
 )
 SEED_TABLE_IDS = [f"table{n}" for n in range(1, 10)] + ["compression"]
-TABLE_IDS = [*SEED_TABLE_IDS, "calibrated_type1", "calibrated_type2"]
+TABLE_IDS = [*SEED_TABLE_IDS, "check_impact", "check_table9", "calibrated_type1",
+             "calibrated_type2"]  # fmt: skip
 
 
 @pytest.fixture(scope="module")
@@ -51,17 +54,32 @@ def test_report_files_and_measured_values(report: Path) -> None:
         assert (out / name).is_file(), name
     summary = json.loads((out / "summary.json").read_text())
     assert summary["meshes"]["ball_divisions"] == TINY.ball_divisions
-    for name in ("props", "modal", "ccor", "calibrate"):
+    for name in ("props", "modal", "ccor", "bbs", "ccor-check", "bbs-check", "calibrate"):
         assert summary["tests"][name]["available"], name
-    assert len(summary["tests"]["ccor"]["runs"]) == 4
+    for name in ("ccor", "bbs", "ccor-check", "bbs-check"):
+        assert len(summary["tests"][name]["runs"]) == 4, name
+    assert summary["model_of_record"] == {"balls": ["type1-fit", "type2-fit"], "bat": "fitted"}
+    assert summary["meshes"]["converged"] is False
     rows = {r["key"]: r for t in summary["tables"].values() for r in t["rows"]}
+    # every row has its role; nothing on these meshes is given a verdict
+    assert {r["role"] for r in rows.values()} == {"fitted", "predicted", "check"}
+    assert all(r["indicative"] and r["verdict"] is None for r in rows.values())
+    assert {rows[f"bbs/{b}/{s}mph"]["role"] for b in ("type1", "type2") for s in (95, 110)} == {
+        "predicted"
+    }
+    assert {r["role"] for r in summary["tables"]["table1"]["rows"]} == {"fitted"}
+    for key in ("bbs/type1/95mph", "check/bbs/type2/110mph"):
+        assert 40.0 < rows[key]["batball"] < 130.0, key  # mph, a batted ball off a coarse bat
+    assert rows["check/material/type1/g_inf"]["batball"] == pytest.approx(750.0)  # as Table 4
     calibrations = {r["label"]: r for r in summary["tests"]["calibrate"]["runs"]}
     assert set(calibrations) == {"type1", "type2"}
     for ball, run in calibrations.items():
         assert Path(run["run_folder"]) == report / "runs" / f"calibrate-{ball}-mat006.db"
         fitted = run["summary"]["parameters_si"]
-        assert rows[f"material/{ball}/beta"]["batball"] == pytest.approx(fitted["beta"])
-        assert rows[f"material/{ball}/g0"]["batball"] == pytest.approx(
+        assert rows[f"calibrated/material/{ball}/beta"]["batball"] == pytest.approx(
+            fitted["beta"]
+        )
+        assert rows[f"calibrated/material/{ball}/g0"]["batball"] == pytest.approx(
             fitted["g0"] / 6894.757293168361
         )
         for target in run["summary"]["targets"]:  # the calibrate --json rows, one table cell each
@@ -70,10 +88,9 @@ def test_report_files_and_measured_values(report: Path) -> None:
             assert row["batball"] == pytest.approx(target["fitted"])
             assert row["experiment"] == pytest.approx(target["measured"])
             assert row["seed_lsdyna"] == pytest.approx(target["seed_fe"])
-            assert row["verdict"] in ("closer", "tie", "farther")
+            assert row["role"] == "fitted"
     assert 0.0 < rows["ccor/type1/95mph"]["batball"] < 1.0
     assert 18.0 < rows["props/weight"]["batball"] < 26.0  # ounces, a coarse 22-oz bat
-    assert rows["bbs/type1/95mph"]["batball"] is None  # no batted-ball-speed test yet
     first = json.loads((report / "first_summary.json").read_text())
     assert not any(r["reused"] for t in first["tests"].values() for r in t["runs"])
     assert all(r["reused"] for t in summary["tests"].values() for r in t["runs"])

@@ -13,19 +13,22 @@ from batball.cli.options import add_store_options
 
 def add_reproduce_parser(sub: Any) -> None:
     """``batball reproduce``: every available test of the seed study, as an HTML report."""
-    help_text = "rerun the seed study (Tables 1-9) and write an HTML report with figures"
+    help_text = ("rerun the seed study (Tables 1-9) with the model of record and the seed's "
+                 "balls as a solver check, and write an HTML report with figures")
     p = sub.add_parser("reproduce", help=help_text, description=help_text)
     p.add_argument(
         "--quick",
         action="store_true",
-        help="coarse meshes (ball divisions 6, 16 bat shells around): a first look, CI",
+        help="coarse meshes (ball divisions 6, 16 bat shells around): a first look whose "
+        "values are indicative (no verdicts)",
     )
     p.add_argument("--out", type=Path, default=Path("report"), help="report folder (report/)")
     p.add_argument(
         "--calibrate",
         action=argparse.BooleanOptionalAction,
-        default=None,
-        help="calibrate both balls (Table 4); default: yes, but not with --quick",
+        default=False,
+        help="also refit the seed's balls with MAT_006 (batball calibrate; off by default: the "
+        "model of record's fitted balls are embedded)",
     )
     add_store_options(p)
     p.add_argument("--json", action="store_true", help="print summary.json on stdout")
@@ -42,8 +45,8 @@ def run_reproduce_command(args: argparse.Namespace) -> int:
         reproduce,
     )
 
-    calibrate = not args.quick if args.calibrate is None else args.calibrate
-    flag = {None: [], True: ["--calibrate"], False: ["--no-calibrate"]}[args.calibrate]
+    calibrate = args.calibrate
+    flag = ["--calibrate"] if calibrate else []
     command = " ".join(["batball", "reproduce", *(["--quick"] if args.quick else []), *flag,
                         "--out", args.out.as_posix(), "--runs-dir", args.runs_dir.as_posix(),
                         *(["--no-reuse"] if args.no_reuse else [])])  # fmt: skip
@@ -58,7 +61,7 @@ def run_reproduce_command(args: argparse.Namespace) -> int:
 
 def describe_reproduction(result: Any) -> str:
     """Where the report is, how batball compares with the seed's LS-DYNA, what is missing."""
-    from batball.report.reproduce_html import verdict_counts
+    from batball.report.reproduce_html import counts_text, verdict_counts
 
     counts = verdict_counts(result)
     missing = (
@@ -66,10 +69,15 @@ def describe_reproduction(result: Any) -> str:
         or "none"
     )
     skipped = [f"  {o.test.name} {o.missing}" for o in result.outcomes if o.skipped]
+    verdicts = (
+        ["  coarse meshes: every value is indicative, no verdicts (run without --quick)"]
+        if result.indicative else
+        [f"  predicted cells: batball {counts_text(counts['predicted'])} than the seed's LS-DYNA",
+         f"  fitted cells: {counts_text(counts['fitted'])}"]
+    )  # fmt: skip
     return "\n".join([
         f"report: {(result.options.out_dir / 'index.html').as_posix()}",
-        f"  batball closer to the experiment than the seed's LS-DYNA in {counts['closer']} cells, "
-        f"as close in {counts['tie']}, farther in {counts['farther']}",
+        *verdicts,
         f"  not yet available: {missing}",
         *skipped,
         f"  {result.seconds:.1f} s",

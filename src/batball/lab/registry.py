@@ -33,7 +33,7 @@ CONTACT_THRESHOLD = Option("contact_threshold", 0.01,
                            kind="float")  # fmt: skip
 PRECISION = Option("precision", "single",
                    "element arithmetic of the ball: single, as LS-DYNA's default executable, or "
-                   "double (they agree to about 1e-6 in CCOR, docs/precision.md)",
+                   "double (they agree to about 1e-6 in CCOR, docs/notes/precision.md)",
                    kind="choice", choices=("single", "double"))  # fmt: skip
 
 DISPLACEMENT = Option("displacement", "0.25 in", "plate travel: where the compression is read",
@@ -283,7 +283,7 @@ MODAL = LabTest(
         *BAT_MESH,
         MODES,
         Option("insert", "contact", "the insert: contact, its pre-stressed fit sliding "
-               "frictionless (docs/modal.md), or bonded, tied to the barrel", kind="choice",
+               "frictionless (docs/notes/modal.md), or bonded, tied to the barrel", kind="choice",
                choices=("contact", "bonded")),
     ),
     build=lambda v: ModalSetup(**v), run=_run_modal, describe=describe.describe_modal,
@@ -304,7 +304,7 @@ BARREL = LabTest(
                "barrel (0, as the seed)", kind="float"),
         Option("solver", "static", "static: linear MITC4 shells, penalty contact, small "
                "displacements; explicit: shells relaxed at each travel, geometrically "
-               "nonlinear (docs/barrel.md)", kind="choice", choices=("static", "explicit")),
+               "nonlinear (docs/notes/barrel.md)", kind="choice", choices=("static", "explicit")),
         SHELL.with_default(None, "with solver explicit: mitc4 (default), the statics' MITC4 "
                            "shells made co-rotational, or bt, the BBS test's one-point shells"),
         HOURGLASS_RATIO.with_default(None, "with shell bt: hourglass ratio r of the one-point "
@@ -367,8 +367,10 @@ SUBJECT_DEFAULTS = {"ball": "type1", "bat": "default"}
 
 #: One line for each subject's option.
 SUBJECT_HELP = {
-    "ball": "embedded ball (type1, type2, foam057, foam083) or a ball TOML file",
-    "bat": "embedded bat (default) or a bat TOML file",
+    "ball": "embedded ball (type1, type2: the seed's; type1-fit, type2-fit: the model of "
+    "record's; foam057, foam083) or a ball TOML file",
+    "bat": "embedded bat (default: the reconstruction; fitted: the model of record's) or a bat "
+    "TOML file",
 }
 
 

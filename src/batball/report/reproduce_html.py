@@ -34,6 +34,8 @@ th { background: #f0f0f0; } td.label, th.label { text-align: left; }
 td.closer, span.closer { background: #c9ecc9; } td.tie, span.tie { background: #f3f0c4; }
 td.farther, span.farther { background: #f6cfcf; }
 td.missing { color: #888; font-style: italic; }
+td.indicative { color: #555; font-style: italic; }
+td.role { color: #555; font-size: 0.9em; }
 .legend span { padding: 0.1em 0.6em; margin-right: 0.6em; border: 1px solid #ccc; }
 .note { color: #555; font-size: 0.9em; max-width: 60em; }
 figure { display: inline-block; margin: 0.6em 1em 1em 0; vertical-align: top; width: 32em; }
@@ -72,36 +74,57 @@ def display_unit(unit: str) -> str:
 
 
 def batball_cell(
-    row: ComparisonRow, value: float | None, missing: str, empty: str = NOT_YET
+    row: ComparisonRow,
+    value: float | None,
+    missing: str,
+    empty: str = NOT_YET,
+    *,
+    indicative: bool = False,
 ) -> str:
-    """batball's cell: its value coloured by the verdict, or ``empty`` and why there is none."""
+    """batball's cell: its value coloured by the verdict (none when ``indicative``), or
+    ``empty`` and why there is none."""
     if value is None:
         reason = escape(missing or "no run of this batball test measured it")
         return f'<td class="missing" title="{reason}">{escape(empty)}</td>'
-    judged = verdict(row, value)
+    judged = verdict(row, value, indicative=indicative)
+    if indicative and row.role != "check" and row.experiment is not None:
+        title = "indicative: a mesh coarser than the converged one, given no verdict"
+        return f"<td class='indicative' title='{title}'>{number(value, row.digits)}</td>"
     css = f' class="{judged}"' if judged else ""
     title = f' title="batball is {judged} to the experiment than LS-DYNA"' if judged else ""
     return f"<td{css}{title}>{number(value, row.digits)}</td>"
 
 
 def table_html(
-    table: ComparisonTable, values: Mapping[str, float], missing: str, empty: str = NOT_YET
+    table: ComparisonTable,
+    values: Mapping[str, float],
+    missing: str,
+    empty: str = NOT_YET,
+    *,
+    indicative: bool = False,
 ) -> str:
-    """One seed table: experiment, the seed's LS-DYNA, batball and the two % differences."""
+    """One seed table: each row's role, experiment, the seed's LS-DYNA, batball and the %
+    differences (for a solver-check table, batball's against LS-DYNA's as well)."""
+    check = table.section == "check"
     head = (
-        "<tr><th class='label'>quantity</th><th>unit</th><th>experiment</th>"
-        "<th>seed LS-DYNA</th><th>batball</th><th>batball vs experiment</th>"
-        "<th>LS-DYNA vs experiment</th></tr>"
+        "<tr><th class='label'>quantity</th><th class='label'>role</th><th>unit</th>"
+        "<th>experiment</th><th>seed LS-DYNA</th><th>batball</th>"
+        + ("<th>batball vs LS-DYNA</th>" if check else "")
+        + "<th>batball vs experiment</th><th>LS-DYNA vs experiment</th></tr>"
     )
     body = []
     for row in table.rows:
         ours = values.get(row.key)
+        versus_fe = (
+            f"<td>{percent(percent_difference(ours, row.seed_fe))}</td>" if check else ""
+        )
         body.append(
             f"<tr><td class='label'>{escape(row.label)}</td>"
+            f"<td class='label role'>{row.role}</td>"
             f"<td class='label'>{escape(display_unit(row.unit))}</td>"
             f"<td>{number(row.experiment, row.digits)}</td>"
             f"<td>{number(row.seed_fe, row.digits)}</td>"
-            f"{batball_cell(row, ours, missing, empty)}"
+            f"{batball_cell(row, ours, missing, empty, indicative=indicative)}{versus_fe}"
             f"<td>{percent(percent_difference(ours, row.experiment))}</td>"
             f"<td>{percent(percent_difference(row.seed_fe, row.experiment))}</td></tr>"
         )
@@ -112,37 +135,90 @@ def table_html(
     )
 
 
-def verdict_counts(result: Reproduction) -> dict[str, int]:
-    """How many batball cells are closer to, as close as, or farther from the experiment."""
-    counts = {"closer": 0, "tie": 0, "farther": 0}
+def verdict_counts(result: Reproduction) -> dict[str, dict[str, int]]:
+    """Per role (``predicted``, ``fitted``): how many batball cells are closer to, as close as,
+    or farther from the experiment than the seed's LS-DYNA. Empty on indicative meshes."""
+    counts = {role: {"closer": 0, "tie": 0, "farther": 0} for role in ("predicted", "fitted")}
     for table in result.tables:
         for row in table.rows:
-            judged = verdict(row, result.values.get(row.key))
-            if judged:
-                counts[judged] += 1
+            judged = verdict(row, result.values.get(row.key), indicative=result.indicative)
+            if judged and row.role in counts:
+                counts[row.role][judged] += 1
     return counts
 
 
-def tables_section(result: Reproduction) -> str:
-    """The seed's tables, each with the reason batball's column is empty where it is."""
-    outcomes = {o.test.name: o for o in result.outcomes}
+def counts_text(counts: dict[str, int]) -> str:
+    """``"closer in 3, as close in 1, farther in 2"``."""
+    return (
+        f"closer in {counts['closer']}, as close in {counts['tie']}, "
+        f"farther in {counts['farther']}"
+    )
+
+
+def headline(result: Reproduction) -> str:
+    """The page's verdict: predicted cells first, fitted ones apart; none on coarse meshes."""
+    if result.indicative:
+        return (
+            "<p><strong>Coarse meshes: every value is indicative and given no verdict.</strong> "
+            "Run <code>batball reproduce</code> without <code>--quick</code> for the verdicts.</p>"
+        )
     counts = verdict_counts(result)
+    return (
+        f"<p><strong>Predicted cells</strong> (no fit saw them): batball "
+        f"{counts_text(counts['predicted'])} than the seed's LS-DYNA, against the experiment. "
+        f"<strong>Fitted cells</strong> (targets of the fits the model uses): "
+        f"{counts_text(counts['fitted'])}.</p>"
+    )
+
+
+SECTION_HEADINGS = {
+    "record": (
+        "tables",
+        "The model of record against the experiment",
+        "The embedded balls type1-fit and type2-fit (MAT_057 foam fitted to Tables 5-8) and the "
+        "embedded bat named fitted (fitted to Table 1 and to Table 3's hoop modes). Each row's "
+        "role says whether a fit saw it.",
+    ),
+    "check": (
+        "check",
+        "Solver check: the seed's balls against the seed's LS-DYNA",
+        "The seed's own Table 4 balls, with the hourglass control that reproduces its LS-DYNA "
+        "(IHQ 4, QM 0.01), run through batball: read batball against the LS-DYNA column. These "
+        "cells test the solver, not the prediction.",
+    ),
+    "refit": (
+        "refit",
+        "Refit: the seed's balls calibrated here (MAT_006)",
+        "batball calibrate run in this invocation (--calibrate).",
+    ),
+}
+
+
+def tables_section(result: Reproduction) -> str:
+    """The tables by section, each with the reason batball's column is empty where it is."""
+    outcomes = {o.test.name: o for o in result.outcomes}
     legend = (
         "<p class='legend'>batball cell: <span class='closer'>closer to the experiment than "
         "the seed's LS-DYNA</span><span class='tie'>as close (at the shown precision)</span>"
         "<span class='farther'>farther</span>. Differences are signed: "
-        "100 (value − experiment) / experiment.</p>"
+        "100 (value − experiment) / experiment. Roles: <em>predicted</em> (no fit saw it), "
+        "<em>fitted</em> (a target of a fit the model uses), <em>check</em> (the seed's "
+        "constants, solver against solver).</p>"
     )
-    summary = (
-        f"<p>batball closer than LS-DYNA in {counts['closer']} cells, as close in "
-        f"{counts['tie']}, farther in {counts['farther']}.</p>"
-    )
-    parts = [f"<h2 id='tables'>The seed's tables, rebuilt</h2>{legend}{summary}"]
-    for table in result.tables:
-        outcome = outcomes.get(table.test)
-        missing = outcome.missing if outcome is not None else f"no test named {table.test}"
-        empty = "skipped" if outcome is not None and outcome.skipped else NOT_YET
-        parts.append(table_html(table, result.values, missing, empty))
+    parts = []
+    for section, (anchor, heading, text) in SECTION_HEADINGS.items():
+        tables = [t for t in result.tables if t.section == section]
+        if not tables:
+            continue
+        parts.append(f"<h2 id='{anchor}'>{escape(heading)}</h2><p class='note'>{escape(text)}</p>")
+        if section == "record":
+            parts.append(legend)
+        for table in tables:
+            outcome = outcomes.get(table.test)
+            missing = outcome.missing if outcome is not None else f"no test named {table.test}"
+            empty = "skipped" if outcome is not None and outcome.skipped else NOT_YET
+            parts.append(table_html(table, result.values, missing, empty,
+                                    indicative=result.indicative))  # fmt: skip
     return "".join(parts)
 
 
@@ -178,6 +254,7 @@ FIGURE_SECTIONS = (
     ("compression", "Ball compression"),
     ("prestress", "Barrel pre-stress fringe (seed Figure 10)"),
     ("bbs", "Batted-ball speed: ball-bat contact force"),
+    ("check", "Solver check: the seed's balls"),
 )
 
 
@@ -218,7 +295,9 @@ def definition_list(items: Iterable[tuple[str, Any]]) -> str:
 def ball_inputs(result: Reproduction) -> str:
     """Each ball as run: size, mass and material constants with units."""
     parts = []
-    for ball in result.inputs.balls:
+    named = zip((*result.options.balls, *result.options.check_balls),
+                (*result.inputs.balls, *result.inputs.check_balls), strict=True)  # fmt: skip
+    for name, ball in named:
         d = ball_spec_to_toml_dict(ball)
         items = [
             ("circumference", d["circumference"]),
@@ -226,7 +305,7 @@ def ball_inputs(result: Reproduction) -> str:
             *((f"material {k}", v) for k, v in d["material"].items()),
         ]
         parts.append(
-            f"<h3>Ball {escape(ball.name)}</h3><p class='note'>"
+            f"<h3>Ball {escape(name)} (seed ball {escape(ball.name)})</h3><p class='note'>"
             f"{escape(ball.description)}</p>{definition_list(items)}"
         )
     return "".join(parts)
@@ -241,8 +320,16 @@ def ply_text(plies: list[dict[str, Any]]) -> str:
 
 
 def bat_inputs(result: Reproduction) -> str:
-    """The bat as run: length, parts with layups, insert, lamina materials."""
-    d = bat_spec_to_toml_dict(result.inputs.bat)
+    """The bats as run: length, parts with layups, insert, lamina materials."""
+    bats = [result.inputs.bat]
+    if result.inputs.check_bat is not None and result.inputs.check_bat != result.inputs.bat:
+        bats.append(result.inputs.check_bat)
+    return "".join(one_bat(bat) for bat in bats)
+
+
+def one_bat(bat: Any) -> str:
+    """One bat as run."""
+    d = bat_spec_to_toml_dict(bat)
     rows = "".join(
         f"<tr><td class='label'>{escape(p['name'])}</td><td>{p['start']}</td>"
         f"<td>{p['end']}</td><td>{p['lumped_mass']}</td>"
@@ -302,6 +389,9 @@ def inputs_section(result: Reproduction) -> str:
             ("ball divisions", f"{m.ball_divisions} (12 = the seed's 12,096 hexes)"),
             ("bat shells around", m.bat_circumferential),
             ("bat shell length", f"{m.bat_axial_size / IN:g} in"),
+            ("batted-ball speed: ball divisions, bat shells around, shell length",
+             f"{m.bbs[0]}, {m.bbs[1]}, {m.bbs[2] / IN:g} in"),
+            ("converged (verdicts given)", "yes" if m.converged else "no: values indicative"),
         ]
     )
     machine = definition_list(
@@ -327,21 +417,21 @@ def inputs_section(result: Reproduction) -> str:
 
 def render_report(result: Reproduction) -> str:
     """The whole page."""
-    quick = "coarse (--quick)" if result.options.meshes.ball_divisions < 12 else "full-size"
+    quick = "coarse (--quick, indicative)" if result.indicative else "full-size"
     header = (
         f"<h1>batball: the seed study, reproduced</h1><p class='note'>Every table of the "
         f"seed study (a composite softball bat and two ball types, HyperMesh + LS-DYNA) "
-        f"beside batball's virtual tests on the embedded balls and bat; {quick} meshes; "
-        f"{result.seconds:.1f} s; {escape(result.environment['date_utc'])}. Tests not built "
-        f"yet say “{NOT_YET}”: no batball number here comes from anywhere but a run.</p>"
-        "<p><a href='#tests'>tests</a> · <a href='#tables'>tables</a> · "
-        "<a href='#figures'>figures</a> · <a href='#inputs'>inputs</a> · "
-        "<a href='summary.json'>summary.json</a></p>"
+        f"beside batball's model of record, and the seed's own balls as a solver check; "
+        f"{quick} meshes; {result.seconds:.1f} s; {escape(result.environment['date_utc'])}. "
+        f"No batball number here comes from anywhere but a run.</p>{headline(result)}"
+        "<p><a href='#tables'>model of record</a> · <a href='#check'>solver check</a> · "
+        "<a href='#tests'>tests</a> · <a href='#figures'>figures</a> · "
+        "<a href='#inputs'>inputs</a> · <a href='summary.json'>summary.json</a></p>"
     )
     body = (
         header
-        + tests_section(result)
         + tables_section(result)
+        + tests_section(result)
         + figures_section(result)
         + inputs_section(result)
     )

@@ -52,6 +52,11 @@ from batball.units import allowed_text, format_quantity, parse_quantity
 #: Names of the balls shipped as package data (``specs/data/<name>.toml``): the seed's types 1, 2.
 EMBEDDED_BALLS: tuple[str, ...] = ("type1", "type2")
 
+#: The model of record's balls (docs/fidelity.md): the seed's two ball types as MAT_057 foam,
+#: fitted by ``batball calibrate`` to the experiment columns of the seed's Tables 5-8. Each file
+#: names the seed ball it models (``name = "type1"``) and the commands that made it.
+FITTED_BALLS: tuple[str, ...] = ("type1-fit", "type2-fit")
+
 #: Example balls shipped as package data beside the seed's: foam balls for MAT_057 and MAT_083
 #: (their files say where the numbers come from).
 EXAMPLE_BALLS: tuple[str, ...] = ("foam057", "foam083")
@@ -336,7 +341,9 @@ def load_ball_spec(name_or_path: str | Path) -> BallSpec:
     """Load an embedded ball by name, or a ball spec TOML file by path.
 
     Args:
-        name_or_path: ``"type1"``, ``"type2"`` or the path of a TOML file.
+        name_or_path: an embedded ball (``"type1"``, ``"type2"``: the seed's Table 4 balls;
+            ``"type1-fit"``, ``"type2-fit"``: the model of record's; ``"foam057"``,
+            ``"foam083"``: examples) or the path of a TOML file.
 
     Raises:
         SpecError: neither an embedded name nor an existing file, invalid TOML, invalid content.
@@ -344,7 +351,7 @@ def load_ball_spec(name_or_path: str | Path) -> BallSpec:
     document, source = read_spec_document(
         name_or_path,
         kind="ball",
-        embedded=EMBEDDED_BALLS + EXAMPLE_BALLS,
+        embedded=EMBEDDED_BALLS + FITTED_BALLS + EXAMPLE_BALLS,
         file_pattern="{name}.toml",
     )
     return ball_spec_from_dict(document, source=source)

@@ -66,6 +66,10 @@ from batball.units import allowed_text, format_quantity, parse_quantity
 #: Names of the bats shipped as package data (``specs/data/<name>_bat.toml``).
 EMBEDDED_BATS: tuple[str, ...] = ("default",)
 
+#: The model of record's bat (docs/fidelity.md): the reconstruction with its barrel braid fitted
+#: to Table 3's hoop modes (``specs/data/fitted_bat.toml`` says how).
+FITTED_BATS: tuple[str, ...] = ("fitted",)
+
 BAT_KEYS = ("name", "description", "length", "materials", "profile", "parts", "insert")
 PART_KEYS = ("name", "start", "end", "layup", "lumped_mass")
 INSERT_KEYS = ("start", "end", "layup", "interference")
@@ -462,13 +466,15 @@ def load_bat_spec(name_or_path: str | Path) -> BatSpec:
     """Load an embedded bat by name, or a bat spec TOML file by path.
 
     Args:
-        name_or_path: ``"default"`` (the reconstruction of the seed's bat) or a TOML file path.
+        name_or_path: ``"default"`` (the reconstruction of the seed's bat), ``"fitted"`` (the
+            model of record's bat) or a TOML file path.
 
     Raises:
         SpecError: neither an embedded name nor an existing file, invalid TOML, invalid content.
     """
     document, source = read_spec_document(
-        name_or_path, kind="bat", embedded=EMBEDDED_BATS, file_pattern="{name}_bat.toml"
+        name_or_path, kind="bat", embedded=EMBEDDED_BATS + FITTED_BATS,
+        file_pattern="{name}_bat.toml",
     )
     return bat_spec_from_dict(document, source=source)
 

@@ -10,6 +10,8 @@ from pathlib import Path
 import pytest
 
 from batball.report.reproduce import (
+    FULL_MESHES,
+    QUICK_MESHES,
     REPRODUCTION_TESTS,
     MeshSizes,
     ReproduceOptions,
@@ -25,7 +27,7 @@ TINY = MeshSizes(ball_divisions=2, bat_circumferential=8, bat_axial_size=0.0254)
 
 
 def test_every_table_is_filled_by_a_registered_test_and_back() -> None:
-    tables = {t.id: t.test for t in comparison_tables(load_seed_tables())}
+    tables = {t.id: t.test for t in comparison_tables(load_seed_tables(), refit=True)}
     for table_id, test in tables.items():
         assert table_id in REPRODUCTION_TESTS[test].tables
     for name, test in REPRODUCTION_TESTS.items():
@@ -33,13 +35,16 @@ def test_every_table_is_filled_by_a_registered_test_and_back() -> None:
         assert all(tables[t] == name for t in test.tables)
 
 
-def test_bbs_is_left_out_of_quick_runs_saying_how_to_add_it(tmp_path: Path) -> None:
-    assert TINY.bbs is None  # quick and test meshes leave the coupled runs out
-    result = reproduce(quiet_options(tmp_path), tests={"bbs": REPRODUCTION_TESTS["bbs"]})
-    (outcome,) = result.outcomes
-    assert outcome.skipped and not outcome.runs
-    assert "without --quick" in outcome.missing
-    assert not any(key.startswith("bbs/") for key in result.values)
+def test_the_model_of_record_and_the_solver_check_are_the_defaults() -> None:
+    options = ReproduceOptions(out_dir=Path("report"), runs_dir=Path("runs"))
+    assert options.balls == ("type1-fit", "type2-fit") and options.bat == "fitted"
+    assert options.check_balls == ("type1", "type2") and options.check_bat == "default"
+    assert not options.calibrate  # the fitted balls are embedded: no calibration by default
+    for name in options.balls:  # each fitted ball names the seed ball it models
+        assert load_ball_spec(name).name == name.removesuffix("-fit")
+        assert load_ball_spec(name).material.law == "mat057"
+    assert FULL_MESHES.converged and not QUICK_MESHES.converged and not TINY.converged
+    assert FULL_MESHES.bbs[0] == 12  # the balls were fitted on the 12,096-hex ball
 
 
 def quiet_options(tmp_path: Path) -> ReproduceOptions:
@@ -61,8 +66,10 @@ def test_missing_tests_show_not_yet_available_and_no_numbers(tmp_path: Path) -> 
     page = (tmp_path / "report" / "index.html").read_text()
     assert page.count("not yet available") >= 2 + 4 + 16  # Table 2, Table 9, Tables 5-8 cells
     csv_lines = (tmp_path / "report" / "table9.csv").read_text().splitlines()
-    assert csv_lines[0].startswith("key,quantity,unit,experiment,seed_lsdyna,batball,")
-    assert all(line.split(",")[5] == "" for line in csv_lines[1:])  # batball column empty
+    assert csv_lines[0].startswith("key,quantity,unit,role,indicative,experiment,seed_lsdyna,"
+                                   "batball,")  # fmt: skip
+    assert all(line.split(",")[7] == "" for line in csv_lines[1:])  # batball column empty
+    assert all(line.split(",")[3] == "predicted" for line in csv_lines[1:])
 
 
 def test_compression_without_its_module_is_not_yet_available(
@@ -83,25 +90,28 @@ def test_calibration_without_the_option_is_skipped_saying_how_to_add_it(tmp_path
     (outcome,) = result.outcomes
     assert outcome.skipped and not outcome.available and not outcome.runs
     assert "--calibrate" in outcome.missing
-    assert not any(key.startswith(("material/", "calibrated/")) for key in result.values)
+    assert not any(key.startswith("calibrated/") for key in result.values)
     page = (tmp_path / "report" / "index.html").read_text()
-    assert page.count(">skipped<") == 2 * 4 + 2 * 8  # Table 4 and both calibrated-ball tables
+    assert "data-table='calibrated_type1'" not in page and "id='refit'" not in page  # no refit
     summary = json.loads((tmp_path / "report" / "summary.json").read_text())
     assert summary["tests"]["calibrate"]["skipped"] is True
+    assert "calibrated_type1" not in summary["tables"]
 
 
-def test_calibration_values_fill_table4_and_the_calibrated_ball_rows() -> None:
+def test_calibration_values_fill_the_refitted_ball_rows() -> None:
     ball = load_ball_spec("type2")
     rows = [{"quantity": q, "speed_mph": mph, "fitted": 1.5}
             for q in ("ccor", "dynamic_stiffness", "peak_force", "contact_time")
             for mph in (95.0, 110.0)]  # fmt: skip
     rows.append({"quantity": "cor", "speed_mph": 60.0, "fitted": 0.5})  # no table row: left out
     values = calibration_values(ball, {"targets": rows})
-    table_keys = {r.key for t in comparison_tables(load_seed_tables()) for r in t.rows}
+    table_keys = {r.key for t in comparison_tables(load_seed_tables(), refit=True) for r in t.rows}
     assert set(values) <= table_keys
-    assert values["material/type2/beta"] == ball.material.values["beta"]
-    assert values["material/type2/g0"] == ball.material.values["g0"] / 6894.757293168361
-    assert len([k for k in values if k.startswith("calibrated/")]) == 8
+    assert values["calibrated/material/type2/beta"] == ball.material.values["beta"]
+    assert values["calibrated/material/type2/g0"] == (
+        ball.material.values["g0"] / 6894.757293168361
+    )
+    assert len([k for k in values if k.startswith("calibrated/")]) == 8 + 4
     assert values["calibrated/ds/type2/110mph"] == 1.5
 
 
