@@ -17,12 +17,13 @@ from pathlib import Path
 
 import pytest
 
-import batball.report.reproduce as reproduce_module
+import batball.report.reproduce_runs as runs_module
+import batball.report.reproduce_setup as repro_setup
 from batball.calibrate import OptimiserOptions
 from batball.cli import main
 
-TINY = reproduce_module.MeshSizes(ball_divisions=2, bat_circumferential=8, bat_axial_size=0.0254,
-                                  bbs=(3, 16, 0.0254))  # fmt: skip
+TINY = repro_setup.MeshSizes(ball_divisions=2, bat_circumferential=8, bat_axial_size=0.0254,
+                               bbs=(3, 16, 0.0254))  # fmt: skip
 #: The calibration's smallest budget: the start and 1 Latin-hypercube point, 2 least-squares steps.
 TINY_CALIBRATION = OptimiserOptions(
     global_points=1, coarse_divisions=2, coarse_evaluations=2, fine_divisions=None
@@ -40,8 +41,8 @@ def report(tmp_path_factory: pytest.TempPathFactory) -> Path:
     args = ["reproduce", "--quick", "--calibrate", "--out", str(root / "report"),
             "--runs-dir", str(root / "runs")]  # fmt: skip
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(reproduce_module, "QUICK_MESHES", TINY)
-        patch.setattr(reproduce_module, "calibration_options", lambda _: TINY_CALIBRATION)
+        patch.setattr(repro_setup, "QUICK_MESHES", TINY)
+        patch.setattr(runs_module, "calibration_options", lambda _: TINY_CALIBRATION)
         assert main(args) == 0
         shutil.copyfile(root / "report" / "summary.json", root / "first_summary.json")
         assert main(args) == 0
@@ -83,7 +84,7 @@ def test_report_files_and_measured_values(report: Path) -> None:
             fitted["g0"] / 6894.757293168361
         )
         for target in run["summary"]["targets"]:  # the calibrate --json rows, one table cell each
-            quantity = reproduce_module.CALIBRATION_QUANTITIES[target["quantity"]]
+            quantity = runs_module.CALIBRATION_QUANTITIES[target["quantity"]]
             row = rows[f"calibrated/{quantity}/{ball}/{round(target['speed_mph'])}mph"]
             assert row["batball"] == pytest.approx(target["fitted"])
             assert row["experiment"] == pytest.approx(target["measured"])

@@ -37,13 +37,8 @@ def add_reproduce_parser(sub: Any) -> None:
 
 def run_reproduce_command(args: argparse.Namespace) -> int:
     """``batball reproduce``; progress on stderr, the report's path (or its JSON) on stdout."""
-    from batball.report.reproduce import (
-        FULL_MESHES,
-        QUICK_MESHES,
-        ReproduceOptions,
-        dump_summary,
-        reproduce,
-    )
+    from batball.report.reproduce import dump_summary, reproduce
+    from batball.report.reproduce_setup import FULL_MESHES, QUICK_MESHES, ReproduceOptions
 
     calibrate = args.calibrate
     flag = ["--calibrate"] if calibrate else []

@@ -29,6 +29,10 @@ gives the linear internal force K_BT u (:func:`small_displacement_forces`).
 The kernel runs SIMD across blocks of 16 cells of one laminate, the state kept in its block
 layout (comments at ``BLOCK`` and ``N_STATE_ROWS``); :mod:`batball.elements.shell_bt_scalar` is
 the former one-cell-at-a-time kernel, kept as the reference it is tested against.
+
+One module (about 740 lines) because the block kernel, its state layout and the small-
+displacement force that tests it read the same block constants; the section and the scalar
+reference kernel are already their own modules.
 """
 
 from __future__ import annotations

@@ -14,6 +14,10 @@ seen along the axis; the part must lie on it to 1e-6 of its radius). Its contact
 mid-surface offset by half the shell thickness toward the ball, as LS-DYNA's automatic contacts
 place it. Units: the deck's numbers are read in one consistent system (:data:`~batball.lsdyna.cards.
 UNIT_SYSTEMS`, in-lbf-s by default) and converted to SI.
+
+One module (about 720 lines) because it is one reader: the deck's parse, the checks of what
+batball can honour, and the assembly of the model share the deck structure; the bat decks'
+readers are their own modules (bat_model, bat_barrel, bat_bbs).
 """
 
 from __future__ import annotations

@@ -11,6 +11,9 @@ The active set is then updated (closed where g < 0, open where g >= 0, optionall
 hysteresis) and the solve repeated until it no longer changes: the frictionless penalty solution,
 which for a linear-elastic structure does not depend on the loading path. Bilateral springs are
 always active.
+
+One module (about 620 lines) because the frictionless active-set solve, the condensed contact
+and the Coulomb iteration share the penalty-gap assembly and the factorisation reuse.
 """
 
 from __future__ import annotations

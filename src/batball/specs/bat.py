@@ -41,6 +41,9 @@ A bat spec file looks like the embedded default (``specs/data/default_bat.toml``
 
 Everything is validated on load; errors are :class:`~batball.errors.SpecError` naming the dotted
 field (``"parts[3].layup[1].thickness"``), the value given and what is allowed.
+
+One module (about 550 lines) because it is one schema: the dataclasses, their validation and
+their TOML reading and writing, field by field.
 """
 
 from __future__ import annotations

@@ -9,17 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from batball.report.reproduce import (
-    FULL_MESHES,
-    QUICK_MESHES,
-    REPRODUCTION_TESTS,
-    MeshSizes,
-    ReproduceOptions,
-    calibration_options,
-    calibration_values,
-    reproduce,
-    run_compression,
-)
+from batball.report.reproduce import REPRODUCTION_TESTS, reproduce
+from batball.report.reproduce_runs import calibration_options, calibration_values, run_compression
+from batball.report.reproduce_setup import FULL_MESHES, QUICK_MESHES, MeshSizes, ReproduceOptions
 from batball.report.seed_comparison import comparison_tables
 from batball.specs import load_ball_spec, load_seed_tables
 
