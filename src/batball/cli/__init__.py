@@ -9,6 +9,7 @@ what is allowed; a numerical failure exits with status 3 and says where and when
 from __future__ import annotations
 
 import argparse
+import sqlite3
 import sys
 from collections.abc import Sequence
 
@@ -50,3 +51,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SimulationError as exc:
         print(f"batball: simulation stopped: {exc}", file=sys.stderr)
         return 3
+    except UnicodeDecodeError as exc:  # a text file that is not UTF-8 (a data or targets file)
+        print(f"batball: error: an input file is not UTF-8 text ({exc.reason} at byte "
+              f"{exc.start})", file=sys.stderr)  # fmt: skip
+        return 2
+    except OSError as exc:  # an output path in a missing folder, a folder given as a file, ...
+        where = exc.filename if exc.filename is not None else "a file"
+        print(f"batball: error: {where}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except sqlite3.DatabaseError as exc:
+        print(f"batball: error: study file: {exc} (expected a study written by batball "
+              "calibrate)", file=sys.stderr)  # fmt: skip
+        return 2

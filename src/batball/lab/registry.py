@@ -30,7 +30,8 @@ BULK_VISCOSITY = Option("bulk_viscosity", True, "bulk viscosity (Q1 = 1.5, Q2 = 
 SOFT = Option("soft", 0, "contact SOFT option, 0 or 1", kind="int")
 CONTACT_THRESHOLD = Option("contact_threshold", 0.01,
                            "contact-time level as a fraction of the peak force",
-                           kind="float")  # fmt: skip
+                           kind="float", check=lambda v: 0.0 <= v < 1.0,
+                           allowed="0 <= threshold < 1 (a fraction of the peak force)")  # fmt: skip
 PRECISION = Option("precision", "single",
                    "element arithmetic of the ball: single, as LS-DYNA's default executable, or "
                    "double (they agree to about 1e-6 in CCOR, docs/notes/precision.md)",

@@ -50,21 +50,55 @@ class KeywordBlock:
         return f"{self.path}:{self.line}"
 
 
+#: The most files one deck may read, itself and its *INCLUDEs together, and their total size: a
+#: chain of decks that each include the next several times would otherwise read exponentially
+#: many files.
+MAX_FILES = 64
+MAX_BYTES = 256 * 2**20
+
+
+@dataclass
+class _Budget:
+    """What a deck's reading may still take: its folder (every include must lie inside it), and
+    the files and bytes left."""
+
+    root: Path
+    files: int = MAX_FILES
+    bytes: int = MAX_BYTES
+
+
 def read_keyword_file(path: str | Path) -> list[KeywordBlock]:
-    """Every keyword block of the deck at ``path``, includes expanded in place."""
-    return _read(Path(path), long_default=False, depth=0)
+    """Every keyword block of the deck at ``path``, includes expanded in place.
+
+    An *INCLUDE is read relative to the deck that names it and must lie inside the folder of
+    the deck at ``path``; at most :data:`MAX_FILES` files and :data:`MAX_BYTES` bytes are read.
+    Errors name the file and line and never quote a file that is not a keyword deck.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise SpecError("deck", str(path), "an existing keyword file")
+    return _read(path, long_default=False, depth=0, budget=_Budget(path.resolve().parent))
 
 
-def _read(path: Path, long_default: bool, depth: int) -> list[KeywordBlock]:
+def _read(path: Path, long_default: bool, depth: int, budget: _Budget) -> list[KeywordBlock]:
     """The blocks of one file; *INCLUDE blocks are replaced by the included file's blocks."""
     if depth > 20:
         raise SpecError("*INCLUDE", str(path), "an include depth of at most 20 (a cycle?)")
     if not path.is_file():
         raise SpecError("deck", str(path), "an existing keyword file")
+    budget.files -= 1
+    budget.bytes -= path.stat().st_size
+    if budget.files < 0 or budget.bytes < 0:
+        raise SpecError("*INCLUDE", str(path), f"a deck of at most {MAX_FILES} files and "
+                        f"{MAX_BYTES // 2**20} MiB in all, includes counted each time")  # fmt: skip
     blocks: list[KeywordBlock] = []
     current: KeywordBlock | None = None
     long_all = long_default
-    for number, raw in enumerate(path.read_text(encoding="latin-1").splitlines(), start=1):
+    try:
+        text = path.read_text(encoding="latin-1")
+    except OSError as exc:
+        raise SpecError("deck", str(path), f"a readable keyword file ({exc.strerror})") from None
+    for number, raw in enumerate(text.splitlines(), start=1):
         line = raw.rstrip("\r\n")
         if line.startswith("$") or (current is None and not line.strip()):
             continue  # a blank line inside a keyword is a card of defaults, as in LS-DYNA
@@ -73,11 +107,12 @@ def _read(path: Path, long_default: bool, depth: int) -> list[KeywordBlock]:
             if current.name == "END":
                 break
             blocks.append(current)
-        elif current is None:
-            raise SpecError(f"{path}:{number}", line.strip(), "a keyword line (*...) first")
+        elif current is None:  # not a deck: say where, not what (the file may be anything)
+            raise SpecError(f"{path}:{number}", "a line before any keyword",
+                            "a keyword line (*...) first")  # fmt: skip
         else:
             current.cards.append(CardLine(line, path, number))
-    return _expand_includes(blocks, long_all, depth)
+    return _expand_includes(blocks, long_all, depth, budget)
 
 
 def _open_keyword(line: str, path: Path, number: int, long_all: bool) -> tuple[KeywordBlock, bool]:
@@ -94,7 +129,8 @@ def _open_keyword(line: str, path: Path, number: int, long_all: bool) -> tuple[K
     return KeywordBlock(name, path, number, long=long), long_all
 
 
-def _expand_includes(blocks: list[KeywordBlock], long_all: bool, depth: int) -> list[KeywordBlock]:
+def _expand_includes(blocks: list[KeywordBlock], long_all: bool, depth: int,
+                     budget: _Budget) -> list[KeywordBlock]:  # fmt: skip
     """Replace each *INCLUDE block by the blocks of the files it names."""
     out: list[KeywordBlock] = []
     for block in blocks:
@@ -104,9 +140,12 @@ def _expand_includes(blocks: list[KeywordBlock], long_all: bool, depth: int) -> 
         for card in block.cards:
             name = card.text.strip()
             target = (card.path.parent / name).resolve()
+            if not target.is_relative_to(budget.root):
+                raise SpecError(f"*INCLUDE at {card.where()}", name,
+                                f"a file inside the deck's folder {budget.root}")  # fmt: skip
             if not target.is_file():
                 raise SpecError(f"*INCLUDE at {card.where()}", name, "an existing file")
-            out.extend(_read(target, long_all, depth + 1))
+            out.extend(_read(target, long_all, depth + 1, budget))
     return out
 
 

@@ -46,7 +46,7 @@ import numpy as np
 from batball.errors import SpecError
 from batball.materials import MATERIAL_LAWS, MaterialLaw
 from batball.materials.foam import FoamCurve, FoamLaw, FoamTable
-from batball.specs.document import read_spec_document
+from batball.specs.document import check_name, read_spec_document
 from batball.units import allowed_text, format_quantity, parse_quantity
 
 #: Names of the balls shipped as package data (``specs/data/<name>.toml``): the seed's types 1, 2.
@@ -173,8 +173,7 @@ class BallSpec:
     description: str = ""
 
     def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name.strip():
-            raise SpecError("name", self.name, "a non-empty string")
+        check_name("name", self.name)
         _check_range("circumference", self.circumference, MAX_CIRCUMFERENCE, "in")
         _check_range("mass", self.mass, MAX_MASS, "oz")
         if not isinstance(self.material, MaterialSpec):

@@ -63,7 +63,7 @@ from batball.materials import LAMINA_LAWS
 from batball.materials.laminate import Laminate, Ply
 from batball.materials.orthotropic import OrthotropicLamina
 from batball.specs.ball import _reject_unknown_keys, _required
-from batball.specs.document import read_spec_document
+from batball.specs.document import check_name, read_spec_document
 from batball.units import allowed_text, format_quantity, parse_quantity
 
 #: Names of the bats shipped as package data (``specs/data/<name>_bat.toml``).
@@ -207,8 +207,7 @@ class BatSpec:
 
 def _check_bat(spec: BatSpec) -> None:
     """Cross-field checks of a :class:`BatSpec`: profile, part cover, materials, walls, insert."""
-    if not isinstance(spec.name, str) or not spec.name.strip():
-        raise SpecError("name", spec.name, "a non-empty string")
+    check_name("name", spec.name)
     if not (math.isfinite(spec.length) and 0.0 < spec.length <= MAX_LENGTH):
         raise SpecError("length", format_quantity(spec.length, "in"), "0 in < length <= 78.74 in")
     _check_stations(spec.station_array, spec.length)
@@ -242,7 +241,8 @@ def _check_parts(spec: BatSpec) -> None:
     previous_end = 0.0
     for i, part in enumerate(spec.parts):
         path = f"parts[{i}]"
-        if not part.name or part.name in seen or part.name == "insert":
+        check_name(f"{path}.name", part.name)
+        if part.name in seen or part.name == "insert":
             raise SpecError(f"{path}.name", part.name, "a unique non-empty name other than insert")
         seen.add(part.name)
         if abs(part.start - previous_end) > 1e-9:
@@ -384,7 +384,7 @@ def _materials_from_dict(table: object) -> dict[str, OrthotropicLamina]:
             p.name: _quantity(entry, p.name, p.dimension, field=f"{field_}.{p.name}")
             for p in law.parameters
         }
-        materials[name] = law.lamina(values, name=name)
+        materials[check_name(field_, name)] = law.lamina(values, name=name)
     return materials
 
 
@@ -413,8 +413,8 @@ def _ply_from_dict(table: Mapping[str, Any], *, field: str) -> PlySpec:
     braided, label = table.get("braided", False), table.get("label", "")
     if not isinstance(braided, bool):
         raise SpecError(f"{field}.braided", braided, "true or false")
-    if not isinstance(label, str):
-        raise SpecError(f"{field}.label", label, "a string")
+    if label != "":
+        check_name(f"{field}.label", label)
     return PlySpec(
         material=str(material),
         thickness=_quantity(table, "thickness", "length", field=f"{field}.thickness"),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import tomllib
 from collections.abc import Sequence
 from importlib import resources
@@ -35,8 +36,28 @@ def read_spec_document(
         if not path.is_file():
             allowed = f"an embedded {kind} ({', '.join(embedded)}) or the path of a TOML file"
             raise SpecError(kind, str(name_or_path), allowed)
-        text, source = path.read_text(encoding="utf-8"), str(path)
+        try:
+            text, source = path.read_text(encoding="utf-8"), str(path)
+        except UnicodeDecodeError:
+            raise SpecError(kind, str(path), "a TOML file in UTF-8 text") from None
+        except OSError as exc:
+            raise SpecError(kind, str(path), f"a readable TOML file ({exc.strerror})") from None
     try:
         return tomllib.loads(text), source
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(kind, source, f"valid TOML ({exc})") from None
+
+
+#: What a name in a spec (a ball, a bat, a part, a material, a ply label) may be: it is written
+#: into keyword decks and run-folder and study-file names, so it must not carry a newline, a
+#: path separator or a keyword's ``*``.
+NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}")
+NAME_TEXT = "1-64 letters, digits, '.', '_' or '-', starting with a letter or digit"
+
+
+def check_name(field: str, value: object) -> str:
+    """``value`` if it is a safe name (:data:`NAME_PATTERN`), else a one-line
+    :class:`~batball.errors.SpecError` naming ``field``."""
+    if not isinstance(value, str) or NAME_PATTERN.fullmatch(value) is None:
+        raise SpecError(field, value, NAME_TEXT)
+    return value
