@@ -16,6 +16,30 @@ from typing import Any
 from batball.calibrate.evaluate import limit_threads
 from batball.errors import SpecError
 
+#: How often a pool worker checks that the process that started it is alive [s].
+PARENT_CHECK_SECONDS = 0.5
+
+
+def _exit_with_parent(parent: int) -> None:
+    """Watch ``parent`` from a daemon thread; exit this process at once when it is gone (a
+    SIGKILLed ``batball calibrate`` cannot shut its pool down, and its workers would otherwise
+    wait on their pipe forever)."""
+    import threading
+    import time
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(PARENT_CHECK_SECONDS)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="batball-parent-watch", daemon=True).start()
+
+
+def _init_worker(threads: int, parent: int) -> None:
+    """Pool worker initialiser: its Numba threads, and exit when the parent dies."""
+    _exit_with_parent(parent)
+    limit_threads(threads)
+
 
 class InlineExecutor(Executor):
     """Runs each call at submission, in this process (for debugging and tiny studies)."""
@@ -57,9 +81,8 @@ def open_executor(*, workers: int, scheduler: str | None = None) -> Iterator[Exe
     threads = max(1, default_workers() // workers)
     # spawn, not fork: a forked child of a process whose Numba threads already run can hang
     context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(
-        max_workers=workers, mp_context=context, initializer=limit_threads, initargs=(threads,)
-    ) as pool:
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context, initializer=_init_worker,
+                             initargs=(threads, os.getpid())) as pool:  # fmt: skip
         yield pool
 
 

@@ -18,6 +18,7 @@ import meshio
 import numpy as np
 
 from batball.mesh.mesh import Mesh
+from batball.results.store import atomic_path
 
 HEX_CELL_TYPE = "hexahedron"
 
@@ -78,7 +79,8 @@ def write_vtu(
     out = _meshio_mesh(mesh)
     out.point_data = _frame_point_data(mesh, displacement, point_data)
     out.cell_data = {name: [values] for name, values in _frame_cell_data(mesh, cell_data).items()}
-    meshio.write(Path(path), out, file_format="vtu", binary=True)
+    with atomic_path(Path(path)) as tmp:  # a reader never sees half a frame
+        meshio.write(tmp, out, file_format="vtu", binary=True)
 
 
 def _frame_slice(data: Mapping[str, np.ndarray] | None, frame: int) -> dict[str, np.ndarray] | None:
@@ -114,7 +116,8 @@ def _write_pvd(path: Path, times: np.ndarray, frame_files: list[Path]) -> None:
             file=frame_file.relative_to(path.parent).as_posix(),
         )
     ET.indent(root)
-    ET.ElementTree(root).write(path, encoding="utf-8", xml_declaration=True)
+    with atomic_path(path) as tmp:
+        ET.ElementTree(root).write(tmp, encoding="utf-8", xml_declaration=True)
 
 
 def _write_pvd_series(

@@ -173,24 +173,40 @@ def load_stored_arrays(folder: Path, name: str) -> dict[str, np.ndarray] | None:
         return None
 
 
+def folder_files(folder: Path) -> dict[str, int]:
+    """Every file of a run folder but its summary (and temporaries), by path relative to it, with
+    its size in bytes."""
+    folder = Path(folder)
+    return {
+        p.relative_to(folder).as_posix(): p.stat().st_size
+        for p in sorted(folder.rglob("*"))
+        if p.is_file() and p.name != SUMMARY_NAME and not p.name.startswith(".")
+    }
+
+
 def write_summary(folder: Path, summary: Mapping[str, Any]) -> Path:
-    """Write ``folder/summary.json`` with ``"complete": true`` added; call it last in a run.
+    """Write ``folder/summary.json`` with the store's manifest added: ``"complete": true``, the
+    summary's keys and the folder's files with their sizes (what a reuse checks); call it last.
 
     Returns:
         The path written.
     """
     path = Path(folder) / SUMMARY_NAME
-    write_json_atomic(path, {**summary, "complete": True})
+    manifest = {"complete": True, "keys": sorted(summary), "files": folder_files(folder)}
+    write_json_atomic(path, {**summary, **manifest})
     return path
 
 
 def load_cached_summary(folder: Path) -> dict[str, Any] | None:
-    """The run's summary if ``folder/summary.json`` exists, is a JSON object and is complete.
+    """The run's summary if ``folder/summary.json`` exists, is a JSON object, is complete, holds
+    every key it was written with, and every file the run wrote is there with its size.
 
     Returns:
-        The summary dict as the run made it (without the store's ``"complete"`` marker, so a
-        reused run reports what a fresh one does), or None when the run must be (re)done: no
-        file, unreadable or invalid JSON, or no ``"complete": true``.
+        The summary dict as the run made it (without the store's manifest, so a reused run
+        reports what a fresh one does), or None when the run must be (re)done: no file,
+        unreadable or invalid JSON, no ``"complete": true``, a key or a file missing or changed.
+        (A summary written before the manifest had keys and files is checked for completeness
+        only.)
     """
     path = Path(folder) / SUMMARY_NAME
     try:
@@ -199,6 +215,16 @@ def load_cached_summary(folder: Path) -> dict[str, Any] | None:
         return None
     if not isinstance(summary, dict) or summary.pop("complete", None) is not True:
         return None
+    keys, files = summary.pop("keys", None), summary.pop("files", None)
+    if keys is not None and (not isinstance(keys, list) or not set(keys) <= set(summary)):
+        return None
+    if files is not None:
+        if not isinstance(files, dict):
+            return None
+        for name, size in files.items():
+            file = Path(folder) / name
+            if not file.is_file() or file.stat().st_size != size:
+                return None
     return summary
 
 

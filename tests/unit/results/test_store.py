@@ -108,3 +108,22 @@ def test_cached_summary_only_when_complete(tmp_path: Path) -> None:
     assert load_cached_summary(tmp_path) is None
     write_summary(tmp_path, {"ccor": 0.38})
     assert load_cached_summary(tmp_path) == {"ccor": 0.38}  # the marker is the store's own
+
+
+def test_a_reused_run_must_hold_its_keys_and_its_files(tmp_path: Path) -> None:
+    """A summary that parses but lost a key, or a run whose file went missing or changed size,
+    is not reused (the run is done again)."""
+    write_text_atomic(tmp_path / "history.csv", "t,f\n0,1\n")
+    write_summary(tmp_path, {"ccor": 0.38, "ds_lbf_per_in": 7100.0})
+    assert load_cached_summary(tmp_path) == {"ccor": 0.38, "ds_lbf_per_in": 7100.0}
+    stored = json.loads((tmp_path / "summary.json").read_text())
+    assert stored["files"] == {"history.csv": len("t,f\n0,1\n")}
+    damaged = {k: v for k, v in stored.items() if k != "ds_lbf_per_in"}
+    write_json_atomic(tmp_path / "summary.json", damaged)
+    assert load_cached_summary(tmp_path) is None  # a key gone
+    write_json_atomic(tmp_path / "summary.json", stored)
+    assert load_cached_summary(tmp_path) is not None
+    (tmp_path / "history.csv").write_text("t,f\n")
+    assert load_cached_summary(tmp_path) is None  # a file changed
+    (tmp_path / "history.csv").unlink()
+    assert load_cached_summary(tmp_path) is None  # a file gone
