@@ -228,6 +228,26 @@ def load_cached_summary(folder: Path) -> dict[str, Any] | None:
     return summary
 
 
+@contextlib.contextmanager
+def run_lock(folder: Path) -> Iterator[None]:
+    """Hold the run key's lock (``.NAME.lock`` beside the run folder) while the block runs: a
+    second process, or thread, asking for the same run waits, then finds it stored. Without
+    ``fcntl`` (not POSIX) no lock is taken."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - every platform batball is tested on has it
+        yield
+        return
+    folder = Path(folder)
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    with open(folder.parent / f".{folder.name}.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+
+
 def run_or_reuse(
     folder: Path,
     reuse: bool,
@@ -238,16 +258,18 @@ def run_or_reuse(
     """The run-folder protocol of every lab test: the complete summary of ``folder`` if ``reuse``
     and there is one; else ``compute()``, ``summarise(result, wall_seconds)`` (``run_folder``
     added) and ``write(result, summary)``, which writes the folder's files, summary.json last.
+    The run key is locked throughout (:func:`run_lock`), so two identical runs compute once.
 
     Returns:
         (summary, folder).
     """
-    cached = load_cached_summary(folder) if reuse else None
-    if cached is not None:
-        return cached, folder
-    start = time.perf_counter()
-    result = compute()
-    summary = summarise(result, time.perf_counter() - start)
-    summary["run_folder"] = Path(folder).as_posix()
-    write(result, summary)
-    return summary, folder
+    with run_lock(folder):
+        cached = load_cached_summary(folder) if reuse else None
+        if cached is not None:
+            return cached, folder
+        start = time.perf_counter()
+        result = compute()
+        summary = summarise(result, time.perf_counter() - start)
+        summary["run_folder"] = Path(folder).as_posix()
+        write(result, summary)
+        return summary, folder

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 
 import numpy as np
@@ -127,3 +128,36 @@ def test_a_reused_run_must_hold_its_keys_and_its_files(tmp_path: Path) -> None:
     assert load_cached_summary(tmp_path) is None  # a file changed
     (tmp_path / "history.csv").unlink()
     assert load_cached_summary(tmp_path) is None  # a file gone
+
+
+def test_two_identical_runs_at_once_compute_once(tmp_path: Path) -> None:
+    """Two threads ask for the same run key together: the second waits on the key's lock and
+    reuses what the first stored."""
+    import threading
+
+    from batball.results.store import run_or_reuse
+
+    computed: list[int] = []
+
+    def compute() -> int:
+        computed.append(1)
+        time.sleep(0.3)  # long enough for the other thread to arrive while this one computes
+        return 42
+
+    def write(result: int, summary: dict) -> None:
+        write_summary(folder, summary)
+
+    folder = tmp_path / "ccor-0123456789ab"
+    results: list[dict] = []
+
+    def run() -> None:
+        summary, _ = run_or_reuse(folder, True, compute, lambda r, s: {"value": r}, write)
+        results.append(summary)
+
+    threads = [threading.Thread(target=run) for _ in range(2)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert computed == [1]
+    assert [r["value"] for r in results] == [42, 42]
