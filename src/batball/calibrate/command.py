@@ -43,7 +43,8 @@ def add_calibrate_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-evaluations", type=int, help="least-squares evaluations (25; quick 10)")
     p.add_argument("--study", type=Path, help="SQLite study file (runs/calibrate-BALL-MODEL.db)")
     p.add_argument("--workers", type=int, help="local process pool size (default: CPU cores)")
-    p.add_argument("--scheduler", help="Dask scheduler address instead of the local pool")
+    p.add_argument("--scheduler", help="Dask scheduler address instead of the local pool (one "
+                   "you trust: Dask exchanges pickled data, and unpickling runs code)")
     p.add_argument("--save", type=Path, help="write the fitted ball as a spec TOML file")
     p.add_argument("--no-progress", action="store_true", help="no progress bars")
     p.add_argument("--json", action="store_true", help="print one JSON object")

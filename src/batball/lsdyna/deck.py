@@ -13,6 +13,7 @@ read.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -186,6 +187,8 @@ def _convert(text: str, kind: str, keyword: str, name: str, card: CardLine) -> o
         number = float(_fortran_real(text))
     except ValueError:
         raise SpecError(f"*{keyword}.{name.upper()} at {card.where()}", text, "a number") from None
+    if not math.isfinite(number):  # NaN or an overflow ('1+400'): never a value batball can use
+        raise SpecError(f"*{keyword}.{name.upper()} at {card.where()}", text, "a finite number")
     if kind == "i":
         if number != int(number):
             raise SpecError(f"*{keyword}.{name.upper()} at {card.where()}", text, "an integer")

@@ -23,6 +23,7 @@ readers are their own modules (bat_model, bat_barrel, bat_bbs).
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -220,7 +221,7 @@ def _store_records(deck: Deck, block: KeywordBlock) -> None:
         f = split_fields(card, block.name, 0, block.long)
         if block.name == "NODE":
             _check_zero(f, ("tc", "rc"), block.name, card)
-            xyz = (f["x"] or 0.0, f["y"] or 0.0, f["z"] or 0.0)
+            xyz = (f.get("x") or 0.0, f.get("y") or 0.0, f.get("z") or 0.0)
             deck.nodes[_id({**f, "where": card.where()}, "nid", "NODE")] = xyz  # type: ignore[assignment]
         else:
             n = 8 if block.name == "ELEMENT_SOLID" else 4
@@ -246,7 +247,16 @@ def _node_card(cards: list[CardLine], i: int, block: KeywordBlock) -> list[Any]:
     values = [v.strip() for v in raw]
     if any(values[8:]):
         raise SpecError(f"*ELEMENT_SOLID at {cards[i].where()}", text.strip(), "8-node hexes")
-    return [int(float(v)) if v else None for v in values[:8]]
+    ids: list[Any] = []
+    for v in values[:8]:
+        try:
+            number = float(v) if v else None
+        except ValueError:
+            number = math.nan
+        if number is not None and not (math.isfinite(number) and number == int(number)):
+            raise SpecError(f"*ELEMENT_SOLID at {cards[i].where()}", v, "a node id")
+        ids.append(None if number is None else int(number))
+    return ids
 
 
 def _check_zero(
