@@ -111,3 +111,14 @@ def test_includes_that_fan_out_stop_at_the_file_budget(tmp_path: Path) -> None:
         (tmp_path / f"level{level}.k").write_text(body)
     with pytest.raises(SpecError, match=f"at most {MAX_FILES} files"):
         read_keyword_file(tmp_path / "level0.k")
+
+
+def test_a_ball_that_never_reaches_the_target_says_so_with_the_distance() -> None:
+    from batball.errors import SimulationError
+    from batball.lab.impact import run_impact
+    from batball.models.impact import ImpactSetup
+    from batball.specs import load_ball_spec
+
+    setup = ImpactSetup(test="ccor", speed=42.0, divisions=2, gap=0.01, end_time=1e-5)
+    with pytest.raises(SimulationError, match=r"never reached the target .* mm travelled"):
+        run_impact(load_ball_spec("type1"), setup)

@@ -235,6 +235,13 @@ class MassTargets:
     names = ("weight_oz", "balance_point_in", "moi_pivot_oz_in2")
     description = "weight, balance point and MOI"
 
+    def __post_init__(self) -> None:
+        for name, value, unit in (("weight", self.weight / OZ, "oz"),
+                                  ("balance-point", self.balance_point / IN, "in"),
+                                  ("moi", self.moi_pivot / OZ_IN2, "oz*in**2")):  # fmt: skip
+            if not (math.isfinite(value) and value > 0.0):
+                raise SpecError(name, f"{value:g} {unit}", f"a positive {name.replace('-', ' ')}")
+
     @property
     def wanted(self) -> tuple[float, ...]:
         return (self.weight / OZ, self.balance_point / IN, self.moi_pivot / OZ_IN2)
@@ -281,6 +288,10 @@ class HoopTargets:
     match: float = 1e-4
 
     description = "hoop frequencies"
+
+    def __post_init__(self) -> None:
+        if not self.hoop_hz or not all(math.isfinite(f) and f > 0.0 for f in self.hoop_hz):
+            raise SpecError("hoop", list(self.hoop_hz), "one or more positive frequencies")
 
     @property
     def names(self) -> tuple[str, ...]:

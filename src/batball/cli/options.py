@@ -20,8 +20,9 @@ def add_options(p: argparse.ArgumentParser, options: Iterable[Option]) -> None:
             p.add_argument(*option.flags, dest=option.name, action=action,
                            help=option.help_line.replace("%", "%%"))  # fmt: skip
             continue
-        choices = option.choices if option.kind == "choice" else None
-        p.add_argument(*option.flags, dest=option.name, default=option.default, choices=choices,
+        # a choice is checked by the option itself (one line naming it), not by argparse
+        metavar = "{" + ",".join(option.choices) + "}" if option.kind == "choice" else None
+        p.add_argument(*option.flags, dest=option.name, default=option.default, metavar=metavar,
                        help=option.help_line.replace("%", "%%"))  # fmt: skip
 
 

@@ -72,14 +72,29 @@ def run_impact_model(
     the measurements. Shared by :func:`run_impact` and the keyword-deck runner.
     """
     run = run_explicit(model, controls, progress=progress)
-    if run.contact_nodes[-1] > 0 or not run.contact_nodes.any():
-        state = "is still in contact with" if run.contact_nodes.any() else "never reached"
-        raise SimulationError(
-            f"the ball {state} the target at the end time {controls.end_time * 1e3:.2f} ms, so "
-            f"no rebound can be measured; raise end_time or check the material"
-        )
     speed = float(np.linalg.norm(model.initial_velocity[0]))
     direction = model.initial_velocity[0] / speed
+    if not run.contact_nodes.any():
+        # how far the ball's centre went along the flight line: beyond its own size, it went
+        # through the target rather than not reaching it
+        travelled = float(np.trapezoid(run.com_velocity @ direction, run.time))
+        size = float(np.ptp(model.mesh.points @ direction))
+        if travelled > size:
+            raise SimulationError(
+                f"the ball went through the target without touching it ({travelled * 1e3:.1f} mm "
+                f"in {controls.end_time * 1e3:.2f} ms, more than its {size * 1e3:.1f} mm): the "
+                "contact missed it; lower the speed or the time-step scale, or check the mesh"
+            )
+        raise SimulationError(
+            f"the ball never reached the target in the end time {controls.end_time * 1e3:.2f} ms "
+            f"({travelled * 1e3:.1f} mm travelled), so no rebound can be measured; raise end_time"
+        )
+    if run.contact_nodes[-1] > 0:
+        raise SimulationError(
+            f"the ball is still in contact with the target at the end time "
+            f"{controls.end_time * 1e3:.2f} ms, so no rebound can be measured; raise end_time or "
+            "check the material"
+        )
     load_cell = run.reaction[:, 0, :] @ direction
     measures = measure_impact(
         run.time,
