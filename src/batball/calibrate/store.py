@@ -5,16 +5,22 @@ study killed at any instant leaves a valid file holding every run that finished 
 a restarted study reads them back instead of running them again. The ``computations`` table logs
 each run actually computed, with the session that computed it, so tests can check that nothing
 was computed twice.
+
+Two processes on one study share the work: before computing a run a process claims its key (an
+``flock`` on ``STUDY.locks/KEY.lock``, which the operating system releases if the process dies);
+a key another process holds is waited for and then read back, or computed here if that process
+died before storing it.
 """
 
 from __future__ import annotations
 
 import json
+import os
 import sqlite3
 import time
 import uuid
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS runs (
@@ -63,6 +69,26 @@ class StudyStore:
                 "INSERT INTO computations VALUES (?, ?, ?, ?)",
                 (key, self.session, float(outcome.get("seconds", 0.0)), now),
             )
+
+    def claim(self, key: str, *, wait: bool = False) -> IO[str] | None:
+        """Claim ``key`` for this process: the open lock file (close it, after :meth:`put`, to
+        release the claim), or None when another process holds it (``wait``: block until it is
+        released, then claim it). A throw-away ``":memory:"`` study always succeeds."""
+        try:
+            import fcntl
+        except ImportError:  # pragma: no cover - not POSIX: no sharing between processes
+            return open(os.devnull)  # noqa: SIM115
+        if self.path == ":memory:":
+            return open(os.devnull)  # noqa: SIM115
+        folder = Path(f"{self.path}.locks")
+        folder.mkdir(exist_ok=True)
+        lock = open(folder / f"{key}.lock", "a")  # noqa: SIM115 - held until the caller closes it
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | (0 if wait else fcntl.LOCK_NB))
+        except BlockingIOError:
+            lock.close()
+            return None
+        return lock
 
     def __len__(self) -> int:
         return int(self._connection.execute("SELECT COUNT(*) FROM runs").fetchone()[0])

@@ -53,8 +53,31 @@ class Evaluator:
             else:
                 missing[key] = request
         if missing:
-            outcomes.update(self._compute(missing, label=label))
+            outcomes.update(self._claim_and_compute(missing, label=label))
         return [outcomes[request.key] for request in requests]
+
+    def _claim_and_compute(self, missing: dict[str, RunRequest], *,
+                           label: str) -> dict[str, dict[str, Any]]:  # fmt: skip
+        """Compute the runs this process can claim; wait for the ones another process on the same
+        study is computing and read them back (computing any it died before storing)."""
+        claims = {key: self.store.claim(key) for key in missing}
+        mine = {key: missing[key] for key, lock in claims.items() if lock is not None}
+        try:
+            done = self._compute(mine, label=label) if mine else {}
+        finally:
+            for lock in claims.values():
+                if lock is not None:
+                    lock.close()
+        for key in missing.keys() - mine.keys():
+            lock = self.store.claim(key, wait=True)  # the other process has stored it, or died
+            try:
+                stored = self.store.get(key)
+                done[key] = stored if stored is not None else self._compute(
+                    {key: missing[key]}, label=label)[key]
+            finally:
+                if lock is not None:
+                    lock.close()
+        return done
 
     def _compute(self, missing: dict[str, RunRequest], *, label: str) -> dict[str, dict[str, Any]]:
         """Submit every missing run; store each outcome as it arrives."""
