@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from batball.cli import main
+from batball.cli.decks import export_options
 from batball.lab.protocol import Option
 from batball.lab.registry import LAB_TESTS
 
@@ -58,3 +59,23 @@ def test_a_bad_value_is_one_line_naming_the_option_and_nothing_runs(
     assert captured.err.startswith(f"batball: error: {field}") and captured.err.count("\n") == 1
     assert captured.out == ""
     assert not runs.exists()  # checked before anything ran or was stored
+
+
+EXPORT_CASES = [
+    pytest.param(name, option, value, id=f"export-{name}-{option.field}-{value}")
+    for name in ("ccor", "cor", "compression", "modal", "barrel", "bbs")
+    for option in export_options(name)
+    for value in bad_values(option)
+]
+
+
+@pytest.mark.parametrize(("test", "option", "value"), EXPORT_CASES)
+def test_export_refuses_a_bad_value_in_one_line_and_writes_no_deck(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], test: str, option: Option, value: str
+) -> None:
+    deck = tmp_path / "deck.k"
+    assert main(["export", test, option.flags[0], value, "-o", str(deck)]) == 2
+    captured = capsys.readouterr()
+    assert captured.err.startswith(f"batball: error: {option.field}")
+    assert captured.err.count("\n") == 1 and captured.out == ""
+    assert not deck.exists()
