@@ -146,7 +146,7 @@ def run_test(
     given = {kind: arguments.pop(kind, SUBJECT_DEFAULTS[kind]) for kind in test.subjects}
     setup = test.setup(**arguments)
     subjects = {kind: load_subject(kind, value) for kind, value in given.items()}
-    summary, folder = test.run(subjects, setup, runs_dir=Path(runs_dir), reuse=reuse,
+    summary, folder = test.execute(subjects, setup, runs_dir=Path(runs_dir), reuse=reuse,
                                progress=progress)  # fmt: skip
     return Result(test=name, summary=summary, run_dir=folder, history_file=test.history)
 

@@ -41,8 +41,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``batball`` command."""
-    args = build_parser().parse_args(argv)
+    """Entry point of the ``batball`` command; with no arguments, its help."""
+    parser = build_parser()
+    if not (sys.argv[1:] if argv is None else argv):
+        parser.print_help()
+        return 0
+    args = parser.parse_args(argv)
     try:
         return int(args.handler(args))
     except SpecError as exc:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from typing import Any
 
 from batball.cli.options import (
@@ -36,9 +37,11 @@ def run_lab_test_command(args: argparse.Namespace) -> int:
     span, unit = test.span(setup) if test.span is not None else (0.0, "s")
     update, bar = progress_bar(span, enabled=test.span is not None, unit=unit)
     try:
-        summary, _ = test.run(subjects, setup, runs_dir=args.runs_dir, reuse=not args.no_reuse,
+        summary, _ = test.execute(subjects, setup, runs_dir=args.runs_dir, reuse=not args.no_reuse,
                               progress=update)  # fmt: skip
     finally:
         bar.close()
+    for warning in summary["warnings"]:
+        print(f"batball: warning: {warning}", file=sys.stderr)
     print(json.dumps(summary, indent=2) if args.json else test.describe(summary))
     return 0

@@ -150,6 +150,33 @@ def _number(value: Any, *, integer: bool, field: str) -> int | float:
     return number
 
 
+#: The share of the impact's kinetic energy that hourglass control may take before a run is
+#: flagged, and the largest energy balance error (LS-DYNA practice: hourglass energy under 10 %,
+#: the balance within 1 %).
+HOURGLASS_LIMIT = 0.10
+BALANCE_LIMIT = 0.01
+
+
+def run_warnings(summary: Mapping[str, Any]) -> list[str]:
+    """What a careful analyst would be told about a finished run: hourglass energy over
+    :data:`HOURGLASS_LIMIT` of the initial kinetic energy, an energy balance error over
+    :data:`BALANCE_LIMIT`. Each a sentence with its number and what to do."""
+    warnings = []
+    hourglass = summary.get("hourglass_energy_fraction")
+    if isinstance(hourglass, float) and hourglass > HOURGLASS_LIMIT:
+        warnings.append(
+            f"hourglass energy is {100 * hourglass:.1f} % of the initial kinetic energy (over "
+            f"{100 * HOURGLASS_LIMIT:g} %): refine the mesh or use a stiffness hourglass control"
+        )
+    balance = summary.get("energy_balance_error")
+    if isinstance(balance, float) and balance > BALANCE_LIMIT:
+        warnings.append(
+            f"the energy balance error is {100 * balance:.2f} % (over {100 * BALANCE_LIMIT:g} %): "
+            "lower the time-step scale or check the contact"
+        )
+    return warnings
+
+
 #: What a test's ``run`` gets: the loaded subjects by name ("ball", "bat"), the Setup, the
 #: results store, whether a stored run may be reused and a progress callback over simulated time.
 RunFunction = Callable[..., tuple[dict[str, Any], Path]]
@@ -189,6 +216,13 @@ class LabTest:
                 return option
         names = ", ".join(o.name for o in self.options)
         raise SpecError("option", name, f"an option of {self.name}: {names}")
+
+    def execute(self, subjects: Mapping[str, Any], setup: Any,
+                **store: Any) -> tuple[dict[str, Any], Path]:  # fmt: skip
+        """``run``, with the run's :func:`run_warnings` under ``"warnings"`` in the summary (a
+        list, empty when there is nothing to say)."""
+        summary, folder = self.run(subjects, setup, **store)
+        return {**summary, "warnings": run_warnings(summary)}, folder
 
     def setup(self, **values: Any) -> Any:
         """The frozen Setup of ``values`` (option name -> value as a person gives it; a missing

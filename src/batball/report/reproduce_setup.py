@@ -171,7 +171,7 @@ def lab_run(
     try:
         return timed_run(
             inputs, label,
-            lambda: test.run(subjects, setup, runs_dir=inputs.options.runs_dir,
+            lambda: test.execute(subjects, setup, runs_dir=inputs.options.runs_dir,
                              reuse=inputs.options.reuse, progress=None),
         )  # fmt: skip
     except ModuleNotFoundError as exc:
