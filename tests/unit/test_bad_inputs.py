@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -122,3 +123,17 @@ def test_a_ball_that_never_reaches_the_target_says_so_with_the_distance() -> Non
     setup = ImpactSetup(test="ccor", speed=42.0, divisions=2, gap=0.01, end_time=1e-5)
     with pytest.raises(SimulationError, match=r"never reached the target .* mm travelled"):
         run_impact(load_ball_spec("type1"), setup)
+
+
+def test_a_deck_run_in_other_units_than_its_header_says_warns(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    deck = tmp_path / "mm.k"
+    assert main(["export", "ccor", "--divisions", "2", "--units", "mm-N-ms", "-o", str(deck)]) == 0
+    capsys.readouterr()
+    assert main(["run", str(deck), "--json"]) == 0  # read as in-lbf-s, the default
+    captured = capsys.readouterr()
+    assert "header says its units are mm-N-ms" in captured.err
+    assert any("--units mm-N-ms" in w for w in json.loads(captured.out)["warnings"])
+    assert main(["run", str(deck), "--units", "mm-N-ms", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["warnings"] == []

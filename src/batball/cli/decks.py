@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -133,6 +134,18 @@ def run_export_command(args: argparse.Namespace) -> int:
     return 0
 
 
+def deck_warnings(args: argparse.Namespace) -> list[str]:
+    """What ``batball run`` says about a deck besides its results: units given that disagree with
+    the ones its batball header names (every number is then read at the wrong scale)."""
+    from batball.lsdyna.deck import header_units
+
+    named = header_units(args.deck)
+    if named is not None and named != args.units:
+        return [f"the deck's header says its units are {named}, but it was read as {args.units}: "
+                f"run it with --units {named}"]  # fmt: skip
+    return []
+
+
 def add_run_deck_parser(sub: Any) -> None:
     """``batball run deck.k``: read a keyword deck and run it as an impact test."""
     help_text = "read an LS-DYNA keyword deck (ball hexes + rigid target) and run it"
@@ -177,6 +190,9 @@ def run_deck_command(args: argparse.Namespace) -> int:
     finally:
         bar.close()
     summary["deck"] = str(args.deck)
+    summary["warnings"] = deck_warnings(args)
+    for warning in summary["warnings"]:
+        print(f"batball: warning: {warning}", file=sys.stderr)
     if args.json:
         print(json.dumps(summary, indent=2))
         return 0
@@ -217,6 +233,9 @@ def run_bat_deck_command(args: argparse.Namespace) -> int:
         return run_bbs_deck_command(args, bat)
     summary = run_modal_deck(bat) if bat.test == "modal" else run_barrel_deck(bat)
     summary["deck"] = str(args.deck)
+    summary["warnings"] = deck_warnings(args)
+    for warning in summary["warnings"]:
+        print(f"batball: warning: {warning}", file=sys.stderr)
     if args.json:
         print(json.dumps(summary, indent=2))
     elif bat.test == "barrel":
@@ -243,6 +262,9 @@ def run_bbs_deck_command(args: argparse.Namespace, bat: Any) -> int:
     separation = parse_quantity(text, "time", field="separation-time")
     summary = run_bbs_deck(bat, separation_time=separation, precision=args.precision)
     summary["deck"] = str(args.deck)
+    summary["warnings"] = deck_warnings(args)
+    for warning in summary["warnings"]:
+        print(f"batball: warning: {warning}", file=sys.stderr)
     summary["run_folder"] = None
     if args.json:
         print(json.dumps(summary, indent=2))

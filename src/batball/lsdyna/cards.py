@@ -240,7 +240,8 @@ UNIT_SYSTEMS = {
     ),
     "m-N-s": UnitSystem("m-N-s", 1.0, 1.0, 1.0, "SI: length m, force N, time s, mass kg, Pa"),
     "mm-N-ms": UnitSystem(
-        "mm-N-ms", 1e-3, 1.0, 1e-3, "length mm, force N, time ms, mass kg, stress MPa"
+        "mm-N-ms", 1e-3, 1.0, 1e-3,
+        "length mm, force N, time ms, mass g, density g/mm^3, stress MPa",
     ),
 }  # fmt: skip
 

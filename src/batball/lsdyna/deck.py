@@ -14,6 +14,7 @@ read.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -66,6 +67,23 @@ class _Budget:
     root: Path
     files: int = MAX_FILES
     bytes: int = MAX_BYTES
+
+
+#: The header line batball writes with a deck's unit system (``$ units in-lbf-s: ...``).
+_UNITS_LINE = re.compile(r"^\$ units (\S+):")
+
+
+def header_units(path: str | Path) -> str | None:
+    """The unit system a deck's batball header names, or None (no such line in its first 40)."""
+    try:
+        with open(path, encoding="latin-1") as stream:
+            for _, line in zip(range(40), stream, strict=False):
+                match = _UNITS_LINE.match(line)
+                if match:
+                    return match.group(1)
+    except OSError:
+        return None
+    return None
 
 
 def read_keyword_file(path: str | Path) -> list[KeywordBlock]:

@@ -164,14 +164,14 @@ def control_cards(setup: Any, end_time: float, u: UnitSystem,
 
 def database_cards(u: UnitSystem, fine: float, coarse: float, plot: float) -> list[str]:
     """Histories the measurements need, every ``fine`` s: RCFORC (the load cells) and MATSUM (the
-    ball's momentum and velocity); every ``coarse`` s: GLSTAT (energies) and NODOUT; D3PLOT
-    fields every ``plot`` s."""
+    ball's momentum and velocity); every ``coarse`` s: GLSTAT (energies); D3PLOT fields every
+    ``plot`` s. (No NODOUT: it writes only the nodes a *DATABASE_HISTORY_NODE lists, and no
+    measurement needs one.)"""
     fine, coarse, plot = fine / u.time, coarse / u.time, plot / u.time
     return [
         *keyword("DATABASE_GLSTAT", {"dt": coarse, "binary": 1}),
         *keyword("DATABASE_MATSUM", {"dt": fine, "binary": 1}),
         *keyword("DATABASE_RCFORC", {"dt": fine, "binary": 1}),
-        *keyword("DATABASE_NODOUT", {"dt": coarse, "binary": 1}),
         *keyword("DATABASE_BINARY_D3PLOT", {"dt": plot}),
     ]
 

@@ -157,7 +157,8 @@ def test_control_columns(deck: dict[str, list[list[str]]]) -> None:
 
 
 def test_database_columns(deck: dict[str, list[list[str]]]) -> None:
-    for name, dt in (("GLSTAT", 1e-5), ("MATSUM", 1e-6), ("RCFORC", 1e-6), ("NODOUT", 1e-5)):
+    assert "DATABASE_NODOUT" not in deck  # it would write nothing without a history node list
+    for name, dt in (("GLSTAT", 1e-5), ("MATSUM", 1e-6), ("RCFORC", 1e-6)):
         f = read(deck[f"DATABASE_{name}"][0][0], tens("dt", "binary", "lcur", "ioopt"))
         assert (num(f["dt"]), int(f["binary"])) == (dt, 1), name
     d3 = read(deck["DATABASE_BINARY_D3PLOT"][0][0], tens("dt", "lcdt", "beam", "npltc"))
