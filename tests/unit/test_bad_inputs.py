@@ -137,3 +137,21 @@ def test_a_deck_run_in_other_units_than_its_header_says_warns(
     assert any("--units mm-N-ms" in w for w in json.loads(captured.out)["warnings"])
     assert main(["run", str(deck), "--units", "mm-N-ms", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["warnings"] == []
+
+
+def test_the_contact_penalty_scale_is_an_option_of_every_test_with_contact(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--sfs (alias --penalty-scale) reaches the contact and is recorded; a stiffer penalty lets
+    the ball sink less into the cylinder, so the peak force rises."""
+    from batball.lab.registry import LAB_TESTS
+
+    for name in ("ccor", "cor", "compression", "bbs"):
+        assert "sfs" in [o.name for o in LAB_TESTS[name].options], name
+    base = ["ccor", "--divisions", "3", "--json", "--runs-dir", str(tmp_path)]
+    assert main(base) == 0
+    soft = json.loads(capsys.readouterr().out)
+    assert main([*base, "--penalty-scale", "3"]) == 0
+    stiff = json.loads(capsys.readouterr().out)
+    assert "contact_sfs" not in soft and stiff["contact_sfs"] == 3.0
+    assert stiff["peak_force_lbf"] > soft["peak_force_lbf"]

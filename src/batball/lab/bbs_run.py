@@ -71,6 +71,7 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         "bat_shell": setup.bat_shell,
         "ball_hourglass_type": setup.hourglass.type,
         "ball_hourglass_coefficient": setup.hourglass.coefficient,
+        **({"ball_contact_sfs": setup.contact.sfs} if setup.contact.sfs != 1.0 else {}),
         "added_mass_g": float(result.model.added_mass.sum() * 1e3),
         "added_mass_percent": float(
             100 * result.model.added_mass.sum() / result.model.coupled.bat.mass[:, 0].sum()

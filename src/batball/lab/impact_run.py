@@ -79,6 +79,7 @@ def summarise(result: ImpactResult, wall_seconds: float) -> dict[str, Any]:
         "hourglass_coefficient": setup.hourglass.coefficient,
         "bulk_viscosity": setup.bulk_viscosity.enabled,
         "contact_soft": setup.contact.soft,
+        **({"contact_sfs": setup.contact.sfs} if setup.contact.sfs != 1.0 else {}),
     }
 
 

@@ -28,6 +28,9 @@ HOURGLASS_COEFFICIENT = Option("hourglass_coefficient", 0.1, "QH/QM", kind="floa
 BULK_VISCOSITY = Option("bulk_viscosity", True, "bulk viscosity (Q1 = 1.5, Q2 = 0.06)",
                         kind="flag")  # fmt: skip
 SOFT = Option("soft", 0, "contact SOFT option, 0 or 1", kind="int")
+SFS = Option("sfs", 1.0, "contact penalty scale SFS on the ball's side, as LS-DYNA's (a foam "
+             "ball's compression needs about 5)", kind="float", check=lambda v: v > 0,
+             allowed="a positive scale", aliases=("--penalty-scale",))  # fmt: skip
 CONTACT_THRESHOLD = Option("contact_threshold", 0.01,
                            "contact-time level as a fraction of the peak force",
                            kind="float", check=lambda v: 0.0 <= v < 1.0,
@@ -180,7 +183,7 @@ def _build_bbs(values: Mapping[str, Any]) -> Any:
         end_time=values["end_time"], mass_scaling=values["mass_scaling"],
         precision=values["precision"], insert_friction=values["insert_friction"],
         bat_damping=values["bat_damping"], bat_shell=values["shell"],
-        hourglass=ball_numerics(values)["hourglass"],
+        hourglass=ball_numerics(values)["hourglass"], contact=ball_numerics(values)["contact"],
         **({} if ratio is None else {"shell_hourglass_ratio": ratio}),
     )  # fmt: skip
 
@@ -240,7 +243,7 @@ def _run_bbs(subjects: Mapping[str, Any], setup: Any, *, runs_dir: Path, reuse: 
 
 # --- the entries ----------------------------------------------------------------------------------
 
-_BALL_NUMERICS = (HOURGLASS_TYPE, HOURGLASS_COEFFICIENT, BULK_VISCOSITY, SOFT)
+_BALL_NUMERICS = (HOURGLASS_TYPE, HOURGLASS_COEFFICIENT, BULK_VISCOSITY, SOFT, SFS)
 
 
 def _impact_test(name: str, help: str, speed: str) -> LabTest:
@@ -263,7 +266,7 @@ COMPRESSION = LabTest(
         DIVISIONS, HOURGLASS_TYPE, HOURGLASS_COEFFICIENT,
         Option("quasi_static_ratio", 60.0,
                "loading time in radians of the mass-scaled squash mode", kind="float"),
-        Option("sfs", 1.0, "contact penalty scale SFS (foam balls need about 5)", kind="float"),
+        SFS,
     ),
     build=_build_compression, run=_run_compression, describe=describe.describe_compression,
     history="curve.csv", span=lambda setup: (setup.displacement / setup.rate, "s"),
@@ -344,6 +347,7 @@ BBS = LabTest(
         HOURGLASS_RATIO, SHELL,
         replace(HOURGLASS_TYPE, help="the ball's hourglass control, LS-DYNA IHQ 1-5"),
         replace(HOURGLASS_COEFFICIENT, help="the ball's QH/QM"),
+        SFS,
         PRECISION,
     ),
     build=_build_bbs, run=_run_bbs, describe=describe.describe_bbs, history="history.csv",
