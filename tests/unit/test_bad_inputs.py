@@ -155,3 +155,20 @@ def test_the_contact_penalty_scale_is_an_option_of_every_test_with_contact(
     stiff = json.loads(capsys.readouterr().out)
     assert "contact_sfs" not in soft and stiff["contact_sfs"] == 3.0
     assert stiff["peak_force_lbf"] > soft["peak_force_lbf"]
+
+
+def test_output_keywords_a_hypermesh_deck_carries_are_read_past_with_a_warning(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    deck = tmp_path / "ccor.k"
+    assert main(["export", "ccor", "--divisions", "2", "-o", str(deck)]) == 0
+    capsys.readouterr()
+    extra = ("*CONTROL_ENERGY\n         2         2         2         2\n"
+             "*DATABASE_EXTENT_BINARY\n         0         0         3         1\n*END")  # fmt: skip
+    deck.write_text(deck.read_text().replace("*END", extra))
+    assert main(["run", str(deck), "--json"]) == 0
+    warnings = json.loads(capsys.readouterr().out)["warnings"]
+    assert [w.split(" at ")[0] for w in warnings] == ["*CONTROL_ENERGY", "*DATABASE_EXTENT_BINARY"]
+    deck.write_text(deck.read_text().replace("*CONTROL_ENERGY", "*CONTROL_SHELL"))
+    assert main(["run", str(deck)]) == 2  # a keyword with physics batball cannot honour
+    one_line_error(capsys, "*CONTROL_SHELL")

@@ -135,15 +135,19 @@ def run_export_command(args: argparse.Namespace) -> int:
 
 
 def deck_warnings(args: argparse.Namespace) -> list[str]:
-    """What ``batball run`` says about a deck besides its results: units given that disagree with
-    the ones its batball header names (every number is then read at the wrong scale)."""
+    """What ``batball run`` says about a deck besides its results: the output keywords it read
+    past, and units given that disagree with the ones its batball header names (every number is
+    then read at the wrong scale)."""
     from batball.lsdyna.deck import header_units
+    from batball.lsdyna.model import parse_deck
 
+    warnings = [f"{where}: an output or output-control keyword, read past (batball writes its "
+                "own histories)" for where in parse_deck(args.deck).ignored]  # fmt: skip
     named = header_units(args.deck)
     if named is not None and named != args.units:
-        return [f"the deck's header says its units are {named}, but it was read as {args.units}: "
-                f"run it with --units {named}"]  # fmt: skip
-    return []
+        warnings.append(f"the deck's header says its units are {named}, but it was read as "
+                        f"{args.units}: run it with --units {named}")  # fmt: skip
+    return warnings
 
 
 def add_run_deck_parser(sub: Any) -> None:

@@ -120,12 +120,28 @@ class Deck:
     spcs: list[dict[str, Any]] = field(default_factory=list)
     nodal_rigid_bodies: list[dict[str, Any]] = field(default_factory=list)
     title: str = ""
+    ignored: list[str] = field(default_factory=list)  # "*KEYWORD at file:line", output only
+
+
+#: Keywords that only choose what LS-DYNA writes or how it reports (no physics): a deck from
+#: HyperMesh always has some. They are read past, each listed in ``Deck.ignored`` and in the
+#: run's warnings; batball records every history and energy itself.
+OUTPUT_ONLY = {"CONTROL_ENERGY", "CONTROL_OUTPUT", "CONTROL_CPU", "CONTROL_PARALLEL",
+               "CONTROL_MPP_IO_NOD3DUMP", "CONTROL_REPORT"}  # fmt: skip
+
+
+def output_only(name: str) -> bool:
+    """Whether keyword ``name`` changes no physics: an output request or an output control."""
+    return name.startswith("DATABASE_") or name in OUTPUT_ONLY
 
 
 def parse_deck(path: str | Path) -> Deck:
     """Read every keyword of the deck at ``path`` (includes expanded) into a :class:`Deck`."""
     deck = Deck()
     for block in read_keyword_file(path):
+        if block.name not in SUPPORTED and output_only(block.name):
+            deck.ignored.append(f"*{block.name} at {block.where()}")
+            continue
         if block.name not in SUPPORTED:
             raise SpecError(
                 f"*{block.name} at {block.where()}", "unsupported keyword",
