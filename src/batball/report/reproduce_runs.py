@@ -5,6 +5,7 @@ values keyed as the tables' rows (:mod:`batball.report.seed_comparison`).
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from typing import Any
 
@@ -203,10 +204,8 @@ def run_ccor_check(inputs: Inputs) -> RunnerOutput:
     runs = impact_runs(inputs, inputs.check_balls, "check/", **CHECK_NUMERICS)
     constants = {k: v for ball in inputs.check_balls for k, v in
                  material_values(ball, "check/").items()}  # fmt: skip
-    if runs:
-        first = runs[0]
-        runs[0] = TestRun(first.label, first.summary, first.folder, first.reused, first.seconds,
-                          {**first.values, **constants}, first.figures)  # fmt: skip
+    if runs:  # the constants the check ran with, carried by its first run
+        runs[0] = dataclasses.replace(runs[0], values={**runs[0].values, **constants})
     return RunnerOutput(tuple(runs))
 
 
