@@ -89,8 +89,39 @@ def test_an_include_outside_the_decks_folder_is_refused_without_reading_it(
     deck.write_text("*KEYWORD\n*INCLUDE\n../secret.txt\n*END\n")
     with pytest.raises(SpecError) as error:
         read_keyword_file(deck)
-    assert "*INCLUDE at" in str(error.value) and "inside the deck's folder" in str(error.value)
+    assert "*INCLUDE at" in str(error.value) and "the deck's folder" in str(error.value)
     assert "SECRET" not in str(error.value)
+
+
+def test_a_named_include_root_admits_a_shared_library_and_nothing_outside_it(
+    tmp_path: Path,
+) -> None:
+    library = tmp_path / "library"
+    (library / "decks").mkdir(parents=True)
+    (library / "parts.k").write_text("*KEYWORD\n*TITLE\nshared parts\n")
+    deck = library / "decks" / "main.k"
+    deck.write_text("*KEYWORD\n*INCLUDE\n../parts.k\n*END\n")
+    with pytest.raises(SpecError):  # the default root is the deck's own folder
+        read_keyword_file(deck)
+    blocks = read_keyword_file(deck, include_root=library)
+    assert [b.name for b in blocks] == ["KEYWORD", "KEYWORD", "TITLE"]
+    (tmp_path / "secret.txt").write_text("SECRET-CONTENT\n")
+    deck.write_text("*KEYWORD\n*INCLUDE\n../../secret.txt\n*END\n")
+    with pytest.raises(SpecError) as error:
+        read_keyword_file(deck, include_root=library)
+    assert str(library) in str(error.value) and "SECRET" not in str(error.value)
+    (tmp_path / "elsewhere").mkdir()
+    with pytest.raises(SpecError, match="a folder holding the deck"):  # the deck itself outside
+        read_keyword_file(deck, include_root=tmp_path / "elsewhere")
+
+
+def test_run_names_the_include_root_option_in_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    deck = tmp_path / "main.k"
+    deck.write_text("*KEYWORD\n*END\n")
+    assert main(["run", str(deck), "--include-root", str(tmp_path / "missing")]) == 2
+    one_line_error(capsys, "include root")
 
 
 def test_a_file_that_is_not_a_deck_is_never_quoted(tmp_path: Path) -> None:

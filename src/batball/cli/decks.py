@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -134,15 +135,14 @@ def run_export_command(args: argparse.Namespace) -> int:
     return 0
 
 
-def deck_warnings(args: argparse.Namespace) -> list[str]:
+def deck_warnings(args: argparse.Namespace, ignored: Sequence[str]) -> list[str]:
     """What ``batball run`` says about a deck besides its results: the output keywords it read
-    past, and units given that disagree with the ones its batball header names (every number is
-    then read at the wrong scale)."""
+    past (``ignored``), and units given that disagree with the ones its batball header names
+    (every number is then read at the wrong scale)."""
     from batball.lsdyna.deck import header_units
-    from batball.lsdyna.model import parse_deck
 
     warnings = [f"{where}: an output or output-control keyword, read past (batball writes its "
-                "own histories)" for where in parse_deck(args.deck).ignored]  # fmt: skip
+                "own histories)" for where in ignored]  # fmt: skip
     named = header_units(args.deck)
     if named is not None and named != args.units:
         warnings.append(f"the deck's header says its units are {named}, but it was read as "
@@ -156,6 +156,12 @@ def add_run_deck_parser(sub: Any) -> None:
     p = sub.add_parser("run", help=help_text, description=help_text)
     p.add_argument("deck", type=Path, help="the keyword file (*INCLUDEs are followed)")
     p.add_argument("--units", default="in-lbf-s", help="the deck's units (default in-lbf-s)")
+    p.add_argument(
+        "--include-root",
+        type=Path,
+        default=None,
+        help="a folder every *INCLUDE must lie inside (default: the deck's own folder)",
+    )
     p.add_argument(
         "--separation-time",
         default=None,
@@ -173,7 +179,7 @@ def run_deck_command(args: argparse.Namespace) -> int:
     from batball.lsdyna.model import parse_deck, read_deck
     from batball.units import parse_quantity
 
-    if parse_deck(args.deck).composites:
+    if parse_deck(args.deck, include_root=args.include_root).composites:
         return run_bat_deck_command(args)
     text = args.separation_time or "0.1 ms"
     separation = (
@@ -185,7 +191,7 @@ def run_deck_command(args: argparse.Namespace) -> int:
     displacement = values["displacement"]
     deck = read_deck(
         args.deck, units=args.units, separation_time=separation, displacement=displacement,
-        precision=args.precision,
+        precision=args.precision, include_root=args.include_root,
     )  # fmt: skip
     unit = "s" if deck.test == "compression" else "ms"
     update, bar = progress_bar(deck.controls.end_time, enabled=True, unit=unit)
@@ -194,7 +200,7 @@ def run_deck_command(args: argparse.Namespace) -> int:
     finally:
         bar.close()
     summary["deck"] = str(args.deck)
-    summary["warnings"] = deck_warnings(args)
+    summary["warnings"] = deck_warnings(args, deck.ignored)
     for warning in summary["warnings"]:
         print(f"batball: warning: {warning}", file=sys.stderr)
     if args.json:
@@ -232,12 +238,12 @@ def run_bat_deck_command(args: argparse.Namespace) -> int:
     from batball.lab.decks import run_barrel_deck, run_modal_deck
     from batball.lsdyna.bat_model import read_bat_deck
 
-    bat = read_bat_deck(args.deck, units=args.units)
+    bat = read_bat_deck(args.deck, units=args.units, include_root=args.include_root)
     if bat.test == "bbs":
         return run_bbs_deck_command(args, bat)
     summary = run_modal_deck(bat) if bat.test == "modal" else run_barrel_deck(bat)
     summary["deck"] = str(args.deck)
-    summary["warnings"] = deck_warnings(args)
+    summary["warnings"] = deck_warnings(args, bat.deck.ignored)
     for warning in summary["warnings"]:
         print(f"batball: warning: {warning}", file=sys.stderr)
     if args.json:
@@ -266,7 +272,7 @@ def run_bbs_deck_command(args: argparse.Namespace, bat: Any) -> int:
     separation = parse_quantity(text, "time", field="separation-time")
     summary = run_bbs_deck(bat, separation_time=separation, precision=args.precision)
     summary["deck"] = str(args.deck)
-    summary["warnings"] = deck_warnings(args)
+    summary["warnings"] = deck_warnings(args, bat.deck.ignored)
     for warning in summary["warnings"]:
         print(f"batball: warning: {warning}", file=sys.stderr)
     summary["run_folder"] = None

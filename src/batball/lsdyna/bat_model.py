@@ -99,10 +99,13 @@ def is_bat_deck(deck: Deck) -> bool:
     return bool(deck.composites)
 
 
-def read_bat_deck(path: str | Path, *, units: str = "in-lbf-s") -> BatDeck:
-    """Read the bat deck at ``path`` (numbers in ``units``) into a :class:`BatDeck`."""
+def read_bat_deck(
+    path: str | Path, *, units: str = "in-lbf-s", include_root: str | Path | None = None
+) -> BatDeck:
+    """Read the bat deck at ``path`` (numbers in ``units``; includes inside ``include_root`` if
+    named, else the deck's folder) into a :class:`BatDeck`."""
     u = unit_system(units)
-    deck = parse_deck(path)
+    deck = parse_deck(path, include_root=include_root)
     if not deck.composites:
         raise SpecError(f"deck {path}", "no *PART_COMPOSITE", "a bat deck (composite shells)")
     laminae = read_laminae(deck, u)

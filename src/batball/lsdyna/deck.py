@@ -86,17 +86,29 @@ def header_units(path: str | Path) -> str | None:
     return None
 
 
-def read_keyword_file(path: str | Path) -> list[KeywordBlock]:
+def read_keyword_file(
+    path: str | Path, *, include_root: str | Path | None = None
+) -> list[KeywordBlock]:
     """Every keyword block of the deck at ``path``, includes expanded in place.
 
     An *INCLUDE is read relative to the deck that names it and must lie inside the folder of
-    the deck at ``path``; at most :data:`MAX_FILES` files and :data:`MAX_BYTES` bytes are read.
-    Errors name the file and line and never quote a file that is not a keyword deck.
+    the deck at ``path``, or inside ``include_root`` where one is named (a library of parts
+    shared by decks in several folders); at most :data:`MAX_FILES` files and :data:`MAX_BYTES`
+    bytes are read. Errors name the file and line and never quote a file that is not a keyword
+    deck.
     """
     path = Path(path)
     if not path.is_file():
         raise SpecError("deck", str(path), "an existing keyword file")
-    return _read(path, long_default=False, depth=0, budget=_Budget(path.resolve().parent))
+    if include_root is None:
+        root = path.resolve().parent
+    else:
+        root = Path(include_root).resolve()
+        if not root.is_dir():
+            raise SpecError("include root", str(include_root), "an existing folder")
+        if not path.resolve().is_relative_to(root):
+            raise SpecError("include root", str(include_root), f"a folder holding the deck {path}")
+    return _read(path, long_default=False, depth=0, budget=_Budget(root))
 
 
 def _read(path: Path, long_default: bool, depth: int, budget: _Budget) -> list[KeywordBlock]:
@@ -161,7 +173,8 @@ def _expand_includes(blocks: list[KeywordBlock], long_all: bool, depth: int,
             target = (card.path.parent / name).resolve()
             if not target.is_relative_to(budget.root):
                 raise SpecError(f"*INCLUDE at {card.where()}", name,
-                                f"a file inside the deck's folder {budget.root}")  # fmt: skip
+                                f"a file inside {budget.root} (the deck's folder, or "
+                                "the include root named)")  # fmt: skip
             if not target.is_file():
                 raise SpecError(f"*INCLUDE at {card.where()}", name, "an existing file")
             out.extend(_read(target, long_all, depth + 1, budget))

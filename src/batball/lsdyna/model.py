@@ -135,10 +135,11 @@ def output_only(name: str) -> bool:
     return name.startswith("DATABASE_") or name in OUTPUT_ONLY
 
 
-def parse_deck(path: str | Path) -> Deck:
-    """Read every keyword of the deck at ``path`` (includes expanded) into a :class:`Deck`."""
+def parse_deck(path: str | Path, *, include_root: str | Path | None = None) -> Deck:
+    """Read every keyword of the deck at ``path`` (includes expanded, inside ``include_root``
+    if named, else the deck's folder) into a :class:`Deck`."""
     deck = Deck()
-    for block in read_keyword_file(path):
+    for block in read_keyword_file(path, include_root=include_root):
         if block.name not in SUPPORTED and output_only(block.name):
             deck.ignored.append(f"*{block.name} at {block.where()}")
             continue
@@ -352,7 +353,7 @@ class DeckModel:
 
     Attributes:
         test: "ccor" (the first target is a cylinder), "cor" (a flat wall) or "compression" (a
-            moving plate).
+            moving plate). ignored: the output keywords read past, each as ``*NAME at file:line``.
         speed: the body's initial speed, or the plate's for compression [m/s]; title: the
             deck's *TITLE; units: its unit system; displacement: compression reading point [m].
     """
@@ -364,6 +365,7 @@ class DeckModel:
     title: str
     units: str
     displacement: float = 0.0
+    ignored: tuple[str, ...] = ()
 
 
 def read_deck(
@@ -373,6 +375,7 @@ def read_deck(
     separation_time: float | None = 0.1e-3,
     displacement: float = 0.25 * IN,
     precision: str = "single",
+    include_root: str | Path | None = None,
 ) -> DeckModel:
     """Read the deck at ``path`` (numbers in ``units``) into a :class:`DeckModel`.
 
@@ -381,10 +384,10 @@ def read_deck(
     with a moving plate is a compression test, read at ``displacement`` of ball deformation
     (F1888: 0.25 in), and runs to ENDTIM. ``precision`` is an impact deck's element arithmetic
     (as ``batball ccor``'s; LS-DYNA's is the executable's, not the deck's); a compression deck
-    runs double, as ``batball compression``.
+    runs double, as ``batball compression``. ``include_root``: see :func:`parse_deck`.
     """
     u = unit_system(units)
-    deck = parse_deck(path)
+    deck = parse_deck(path, include_root=include_root)
     _refuse_bat_keywords(deck, path)
     solid_parts = sorted({pid for _, pid, _, _ in deck.solids})
     if not solid_parts:
@@ -415,7 +418,8 @@ def read_deck(
     if moving:
         controls = _compression_controls(controls, model, len(contacts), displacement)
         speed = float(np.linalg.norm(moving[0]))
-        return DeckModel(model, controls, "compression", speed, deck.title, u.name, displacement)
+        return DeckModel(model, controls, "compression", speed, deck.title, u.name, displacement,
+                         tuple(deck.ignored))  # fmt: skip
     speed = float(np.linalg.norm(velocity[0]))
     if not speed > 0 or np.abs(velocity - velocity[0]).max() > 1e-12 * speed:
         raise SpecError(
@@ -424,7 +428,7 @@ def read_deck(
         )  # fmt: skip
     test = "ccor" if isinstance(contacts[0].target, RigidCylinder) else "cor"
     controls = dataclasses.replace(controls, precision=precision)
-    return DeckModel(model, controls, test, speed, deck.title, u.name)
+    return DeckModel(model, controls, test, speed, deck.title, u.name, ignored=tuple(deck.ignored))
 
 
 def _refuse_bat_keywords(deck: Deck, path: str | Path) -> None:
