@@ -396,6 +396,9 @@ def fit_bat(
     from scipy.optimize import least_squares
 
     mesh = MeshOptions(circumferential, axial_size)
+    if isinstance(targets, MassTargets) and not targets.balance_point < spec.length:
+        raise SpecError("balance-point", f"{targets.balance_point / IN:g} in",
+                        f"a point on the bat, within its {spec.length / IN:g} in")  # fmt: skip
     kinds = [PARAMETER_KINDS[p.kind] for p in parameters]
     initial = np.array([p.value(spec) for p in parameters])
     scale = np.maximum(np.abs(initial), [k.typical for k in kinds])

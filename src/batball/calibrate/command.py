@@ -55,16 +55,20 @@ def optimiser_options(args: argparse.Namespace) -> Any:
     from batball.calibrate import OptimiserOptions
 
     quick = args.quick
+    if args.max_evaluations is not None and args.max_evaluations < 1:
+        raise SpecError("max-evaluations", args.max_evaluations, "an integer >= 1")
     options = OptimiserOptions(
         global_points=args.global_points if args.global_points is not None else 6 if quick else 12,
-        coarse_divisions=args.coarse_divisions or (6 if quick else 8),
-        coarse_evaluations=args.max_evaluations or (10 if quick else 25),
+        coarse_divisions=(
+            args.coarse_divisions if args.coarse_divisions is not None else 6 if quick else 8
+        ),
+        coarse_evaluations=(
+            args.max_evaluations if args.max_evaluations is not None else 10 if quick else 25
+        ),
         fine_divisions=None if quick else args.fine_divisions,
-    )
-    for name in ("coarse_divisions", "fine_divisions"):
-        value = getattr(options, name)
-        if value is not None and not 2 <= value <= 40:
-            raise SpecError(name.replace("_", "-"), value, "an integer 2..40 (12 = seed mesh)")
+    )  # every value checked by OptimiserOptions itself
+    if quick and args.fine_divisions != 12:  # the default: --quick never runs the full mesh
+        raise SpecError("fine-divisions", args.fine_divisions, "no value with --quick")
     return options
 
 
@@ -117,11 +121,19 @@ def run_calibrate_command(args: argparse.Namespace) -> int:
     """``batball calibrate``."""
     import json
 
+    from batball.results.store import check_output_file
+
     ball = starting_ball(args)
     targets, fitted_targets = select_targets(args, ball.name)
+    options = optimiser_options(args)
     study = args.study or Path("runs") / f"calibrate-{ball.name}-{ball.material.law}.db"
+    check_output_file("study", study)
+    if args.save is not None:
+        check_output_file("save", args.save)
+    if args.workers is not None and args.workers < 0:
+        raise SpecError("workers", args.workers, "0 (this process) or a positive pool size")
     fitted_ball, summary = run_calibration(
-        ball, optimiser_options(args), study=study, targets=targets, fitted=fitted_targets,
+        ball, options, study=study, targets=targets, fitted=fitted_targets,
         free=args.free, bounds=args.bound, workers=args.workers, scheduler=args.scheduler,
         progress=not args.no_progress,
     )  # fmt: skip
@@ -201,12 +213,12 @@ def save_ball(ball: Any, path: Path) -> None:
     """Write ``ball`` as a spec TOML (readable by ``load_ball_spec`` and every test command)."""
     import tomli_w
 
+    from batball.results.store import write_text_atomic
     from batball.specs.ball import ball_spec_to_toml_dict
 
     document = ball_spec_to_toml_dict(ball)
     document["description"] = f"calibrated by batball calibrate ({ball.material.law})"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(tomli_w.dumps(document), encoding="utf-8")
+    write_text_atomic(path, tomli_w.dumps(document))
 
 
 def _percent(value: float | None, measured: float) -> float | None:

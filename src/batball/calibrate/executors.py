@@ -95,5 +95,10 @@ def _dask_executor(scheduler: str) -> Iterator[Executor]:
         raise SpecError(
             "scheduler", scheduler, "an address usable after pip install 'batball[dask]'"
         ) from None
-    with Client(scheduler) as client:
+    try:
+        client = Client(scheduler, timeout="20s")
+    except (ValueError, TypeError, OSError) as exc:  # a malformed address, or none listening
+        raise SpecError("scheduler", scheduler, "the address of a running Dask scheduler, "
+                        f"e.g. tcp://host:8786 ({type(exc).__name__})") from None  # fmt: skip
+    with client:
         yield client.get_executor(pure=False)

@@ -49,6 +49,21 @@ class OptimiserOptions:
     fine_evaluations: int = 6
     diff_step: float = 0.02
 
+    def __post_init__(self) -> None:
+        from batball.errors import SpecError
+
+        if self.global_points < 0:
+            raise SpecError("global-points", self.global_points, "an integer >= 0 (0 skips it)")
+        for name in ("coarse_evaluations", "fine_evaluations"):
+            if getattr(self, name) < 1:
+                raise SpecError(name.replace("_", "-"), getattr(self, name), "an integer >= 1")
+        for name in ("coarse_divisions", "fine_divisions"):
+            value = getattr(self, name)
+            if value is not None and not 2 <= value <= 40:
+                raise SpecError(name.replace("_", "-"), value, "an integer 2..40 (12 = seed mesh)")
+        if not 0.0 < self.diff_step < 1.0:
+            raise SpecError("diff-step", self.diff_step, "a step 0 < h < 1 of the unit box")
+
 
 @dataclass(frozen=True)
 class StageResult:

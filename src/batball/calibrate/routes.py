@@ -28,6 +28,7 @@ import numpy as np
 from batball.calibrate.dma import DmaData, dma_ball, prony_moduli, write_dma_csv
 from batball.calibrate.targets import Target, targets_toml
 from batball.errors import SpecError
+from batball.results.store import check_output_folder
 from batball.specs import BallSpec, MaterialSpec
 from batball.units import MPH, PSI
 
@@ -187,6 +188,24 @@ class RouteOptions:
     study_dir: Path = Path("runs")
     workers: int | None = None
     extra: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        """Every value checked before a route runs."""
+        from batball.materials.prony import MAX_PRONY_TERMS
+
+        if self.model not in ("mat006", "prony1", "prony2", "prony3"):
+            raise SpecError("model", self.model, "mat006, prony1, prony2 or prony3")
+        if not 1 <= self.prony_terms <= MAX_PRONY_TERMS:
+            raise SpecError("prony-terms", self.prony_terms, f"an integer 1..{MAX_PRONY_TERMS}")
+        if self.global_points < 0:
+            raise SpecError("global-points", self.global_points, "an integer >= 0 (0 skips it)")
+        if self.max_evaluations < 1:
+            raise SpecError("max-evaluations", self.max_evaluations, "an integer >= 1")
+        if not 2 <= self.divisions <= 40:
+            raise SpecError("divisions", self.divisions, "an integer 2..40 (12 = seed mesh)")
+        if self.workers is not None and self.workers < 0:
+            raise SpecError("workers", self.workers, "0 (this process) or a positive pool size")
+        check_output_folder("runs-dir", self.study_dir)
 
 
 def _impact_start(base: BallSpec, model: str) -> BallSpec:

@@ -127,8 +127,14 @@ def add_noise_arguments(p: argparse.ArgumentParser) -> None:
 
 def run_noise_command(args: argparse.Namespace) -> int:
     """``batball synthetic-noise``: seeded noisy copies of a synthetic route data set."""
-    from batball.calibrate.noise import NoiseLevels, write_noisy_data
+    from batball.calibrate.noise import DMA_FILES, TARGET_FILES, NoiseLevels, write_noisy_data
+    from batball.results.store import check_output_folder
 
+    data = (*TARGET_FILES, *DMA_FILES)
+    if not any((args.source / name).is_file() for name in data):
+        raise SpecError("source", str(args.source),
+                        f"a folder holding route data ({', '.join(data)})")  # fmt: skip
+    check_output_folder("out", args.out)
     levels = NoiseLevels(
         restitution=args.restitution_sd,
         force=args.force_sd,
@@ -238,6 +244,8 @@ def run_compare_command(args: argparse.Namespace) -> int:
     from batball.calibrate.routes import RouteOptions, compare_routes
     from batball.specs import load_ball_spec, load_bat_spec
 
+    if args.poisson_ratio is not None and not -1.0 < args.poisson_ratio < 0.5:
+        raise SpecError("poisson-ratio", args.poisson_ratio, "-1 < nu < 0.5")
     base = load_ball_spec(args.ball)
     speeds = _speeds_mph(args)
     options = RouteOptions(
@@ -303,10 +311,13 @@ def run_synthetic_command(args: argparse.Namespace) -> int:
     """``batball synthetic-data``: measure the true ball and write the routes' data files."""
     from batball.calibrate.routes import measure_synthetic
     from batball.lab.bbs_run import run_bbs_test
+    from batball.results.store import check_output_folder
     from batball.specs import load_ball_spec, load_bat_spec
 
     truth = load_ball_spec(args.truth)
     setup, bat = _bbs_setup(args), load_bat_spec(args.bat)
+    check_output_folder("out", args.out)
+    check_output_folder("runs-dir", args.runs_dir)
     bbs = {}
     for mph in [] if args.no_bbs else _speeds_mph(args):
         summary, _ = run_bbs_test(

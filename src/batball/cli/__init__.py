@@ -9,9 +9,11 @@ what is allowed; a numerical failure exits with status 3 and says where and when
 from __future__ import annotations
 
 import argparse
+import re
 import sqlite3
 import sys
 from collections.abc import Sequence
+from typing import NoReturn
 
 from batball.cli.bat import add_fit_bat_parser
 from batball.cli.decks import add_export_parser, add_run_deck_parser
@@ -25,9 +27,22 @@ DESCRIPTION = ("batball, a virtual bat-and-ball laboratory: each virtual test is
                "--json prints one JSON object on stdout.")  # fmt: skip
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line like every other bad input's: the option
+    named first, then what is wrong, then where the options are listed (exit status 2)."""
+
+    def error(self, message: str) -> NoReturn:
+        match = re.match(r"argument ([^:]+): (.*)", message, flags=re.DOTALL)
+        if match:  # "argument -o/--output: ..." -> "output: ..."
+            flag = match.group(1).split("/")[-1].lstrip("-")
+            message = f"{flag}: {match.group(2)}"
+        message = " ".join(message.split())
+        self.exit(2, f"batball: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The ``batball`` parser with its subcommands."""
-    parser = argparse.ArgumentParser(prog="batball", description=DESCRIPTION)
+    """The ``batball`` parser with its subcommands (each made by the same parser class)."""
+    parser = OneLineParser(prog="batball", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"batball {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     add_reproduce_parser(sub)  # the main job first in the help
@@ -46,7 +61,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     if not (sys.argv[1:] if argv is None else argv):
         parser.print_help()
         return 0
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a one-line option error (status 2)
+        return exc.code if isinstance(exc.code, int) else 0
     try:
         return int(args.handler(args))
     except SpecError as exc:

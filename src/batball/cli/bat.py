@@ -80,12 +80,19 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
         fit_summary,
         write_fitted_bat,
     )
+    from batball.results.store import check_output_file, check_output_folder
     from batball.specs import load_bat_spec
     from batball.units import parse_quantity
 
     spec = load_bat_spec(args.bat)
     options = bat_mesh_options(args)
     pivot = options.pop("pivot")
+    if args.output is not None:
+        check_output_file("output", args.output)
+    check_output_folder("runs-dir", args.runs_dir)
+    hoop = tuple(parse_quantity(text, "frequency", field="hoop") for text in args.hoop)
+    if not all(f > 0 for f in hoop) or list(hoop) != sorted(set(hoop)):
+        raise SpecError("hoop", " ".join(args.hoop), "positive frequencies, lowest first")
     targets: MassTargets | HoopTargets
     if args.to == "mass":
         targets = MassTargets(
@@ -95,9 +102,6 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
             pivot=pivot,
         )
     else:
-        hoop = tuple(parse_quantity(text, "frequency", field="hoop") for text in args.hoop)
-        if not all(f > 0 for f in hoop) or list(hoop) != sorted(set(hoop)):
-            raise SpecError("hoop", " ".join(args.hoop), "positive frequencies, lowest first")
         targets = HoopTargets(hoop_hz=hoop, runs_dir=args.runs_dir, reuse=not args.no_reuse)
     default_free = DEFAULT_FREE if args.to == "mass" else DEFAULT_HOOP_FREE
     free = tuple(FreeParameter.parse(text) for text in (args.free or default_free))

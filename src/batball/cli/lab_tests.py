@@ -15,6 +15,7 @@ from batball.cli.options import (
     progress_bar,
 )
 from batball.lab.registry import LAB_TESTS, load_subject
+from batball.results.store import check_output_folder
 
 
 def add_lab_test_parsers(sub: Any) -> None:
@@ -34,6 +35,7 @@ def run_lab_test_command(args: argparse.Namespace) -> int:
     test = LAB_TESTS[args.lab_test]
     setup = test.setup(**{o.name: getattr(args, o.name) for o in test.options})
     subjects = {kind: load_subject(kind, getattr(args, kind)) for kind in test.subjects}
+    check_output_folder("runs-dir", args.runs_dir)
     span, unit = test.span(setup) if test.span is not None else (0.0, "s")
     update, bar = progress_bar(span, enabled=test.span is not None, unit=unit)
     try:

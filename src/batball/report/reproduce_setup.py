@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from batball.report.runs import ReportFigure, TestRun
-from batball.results.store import load_cached_summary
+from batball.results.store import check_output_folder, load_cached_summary
 from batball.specs import BallSpec, BatSpec
 from batball.units import IN
 
@@ -99,6 +99,11 @@ class ReproduceOptions:
     command: str = "batball reproduce"
     calibrate: bool = False
     workers: int | None = None
+
+    def __post_init__(self) -> None:
+        """The output folders checked before anything runs (a file in their place is named)."""
+        check_output_folder("out", self.out_dir)
+        check_output_folder("runs-dir", self.runs_dir)
 
 
 @dataclass(frozen=True)

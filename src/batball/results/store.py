@@ -24,6 +24,8 @@ from typing import Any
 
 import numpy as np
 
+from batball.errors import SpecError
+
 #: File name of a run's summary; its presence with ``"complete": true`` marks a finished run.
 SUMMARY_NAME = "summary.json"
 
@@ -70,6 +72,39 @@ def run_folder(root: Path, test: str, inputs: Mapping[str, Any]) -> Path:
     if not _TEST_NAME.match(test):
         raise ValueError(f"test name {test!r} must match {_TEST_NAME.pattern}")
     return Path(root) / f"{test}-{inputs_hash(inputs)}"
+
+
+def _existing_ancestor(path: Path) -> Path:
+    """``path`` itself if it exists, else its nearest existing ancestor folder (or file)."""
+    path = Path(os.path.abspath(path))
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return path
+
+
+def check_output_folder(field: str, path: str | Path) -> Path:
+    """``path`` as a folder results can be written to (made on first write), checked before a
+    run starts: not a file, under a folder that exists or can be made, and writable. A
+    :class:`SpecError` naming ``field`` otherwise."""
+    path = Path(path)
+    found = _existing_ancestor(path)
+    if not found.is_dir():
+        itself = found == Path(os.path.abspath(path))
+        what = "a file of that name exists" if itself else f"{found} is a file"
+        raise SpecError(field, str(path), f"a folder ({what})")
+    if not os.access(found, os.W_OK | os.X_OK):
+        raise SpecError(field, str(path), f"a folder this user can write ({found} is not)")
+    return path
+
+
+def check_output_file(field: str, path: str | Path) -> Path:
+    """``path`` as a file that can be written (its folders made on write), checked before a run
+    starts: not a folder, its folder writable. A :class:`SpecError` naming ``field`` otherwise."""
+    path = Path(path)
+    if path.is_dir():
+        raise SpecError(field, str(path), "a file name (a folder of that name exists)")
+    check_output_folder(field, path.parent)
+    return path
 
 
 @contextlib.contextmanager
