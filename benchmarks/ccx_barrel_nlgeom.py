@@ -15,8 +15,8 @@ CalculiX's cylindrical orientation (1 radial, 2 hoop, 3 axial). The insert's out
 barrel's inner surfaces share their radius and are tied radially only (*EQUATION on the radial
 dofs), free to slide: batball's finding that the fit gaps never open, without the 0.001-in
 pre-stress. The 3.3-in platen is a rigid body (node-to-surface penalty contact, frictionless);
-top-bottom symmetry means each platen moves half the travel. Materials: physics.md 7.1 as in
-src/batball/specs/data/default_bat.toml.
+top-bottom symmetry means each platen moves half the travel. Materials: docs/physics.md section
+7.1 as in src/batball/specs/data/default_bat.toml.
 
 Run: ``python benchmarks/ccx_barrel_nlgeom.py [folder]`` (needs ``ccx``); prints the force at
 each 0.01 in of travel for the linear and the NLGEOM run, and the Table 2 pair of each.
@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 PSI_PER_GPA = 1e9 / 6894.757293168
-#: (E1, E2, G12, G23 in GPa; nu12) of physics.md 7.1 (as default_bat.toml).
+#: (E1, E2, G12, G23 in GPa; nu12) of docs/physics.md section 7.1 (as default_bat.toml).
 LAMINAE = {"carbon": (147.0, 10.3, 7.0, 3.5, 0.27), "glass": (41.0, 10.4, 4.3, 3.5, 0.28)}
 #: Inner to outer: (material, thickness in, braid angle deg).
 INSERT = [("glass", 0.015, 60.0), ("carbon", 0.030, 45.0), ("glass", 0.015, 60.0)]

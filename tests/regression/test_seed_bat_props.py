@@ -33,6 +33,6 @@ def test_balance_point_matches_table_1(props, table_1) -> None:
 
 
 def test_moi_about_the_centre_of_mass_is_the_parallel_axis_value(props, table_1) -> None:
-    # physics.md 4.3: I_cm = I_p - m d^2 = 1947.5 oz*in^2 for Table 1's numbers
+    # docs/physics.md section 4.3: I_cm = I_p - m d^2 = 1947.5 oz*in^2 for Table 1's numbers
     oz_in2 = 0.028349523125 * 0.0254**2
     assert props.moi_cm / oz_in2 == pytest.approx(1947.5, rel=2 * TOLERANCE)

@@ -5,7 +5,7 @@ equal and opposite point loads P along a diameter: the diameter along the load s
 
     delta = (pi / 4 - 2 / pi) P R^3 / (E I) = 0.1488 P R^3 / (E I)
 
-(Castigliano, bending only; physics.md section 5.1 quotes 0.149). A short free tube with
+(Castigliano, bending only; docs/physics.md section 5.1 quotes 0.149). A short free tube with
 Poisson's ratio 0 under a uniform line load along two opposite generators is that ring per unit
 length: I = t^3 / 12 per unit length, no anticlastic coupling. Membrane and shear corrections
 are of order (t / R)^2 = 4e-4 here.

@@ -1,4 +1,4 @@
-"""The batted-ball-speed test against rigid-body mechanics (physics.md section 4.1).
+"""The batted-ball-speed test against rigid-body mechanics (docs/physics.md section 4.1).
 
 A bat that is a rigid body on the pivot recoils with V = k (v_in + v_out) (angular momentum about
 the pivot), so e_A = (e - k) / (1 + k) with e the ball's COR on that target held still (k = 0:
@@ -66,7 +66,7 @@ def test_rigid_bat_with_small_k_follows_the_closed_form(runs: dict[str, BbsResul
 def test_rigid_bat_at_the_seed_pivot(runs: dict[str, BbsResult]) -> None:
     e = runs["fixed"].measures.collision_efficiency
     m = runs["rigid"].measures
-    assert m.k == pytest.approx(0.448, abs=0.01)  # physics.md 4.3: 0.434 x 6.93 / 6.75 oz
+    assert m.k == pytest.approx(0.448, abs=0.01)  # docs/physics.md 4.3: 0.434 x 6.93 / 6.75 oz
     assert e - 0.06 < m.bbcor < e
     # the routes differ by the ball's sideways momentum (lever y v_x), largest on this coarse
     # faceted bat (0.002 here; 0.0004 on 32 x 0.2 in with an 8-division ball)
@@ -100,9 +100,9 @@ def test_pivot_moi_is_the_f2398_moi(runs: dict[str, BbsResult]) -> None:
 def test_dynamic_relaxation_presses_the_insert_to_the_thin_ring_pressure(
     runs: dict[str, BbsResult], name: str
 ) -> None:
-    """physics.md 6.7: p = delta / (R_o^2 / (E_o t_o) + R_i^2 / (E_i t_i)), 92.9 psi for the
-    default bat, with the explicit contact's penalty k (per area) in series: p = delta / (the
-    rings' compliance + 1 / k), 87.5 psi on this coarse mesh (SLSFAC E / diagonal is soft on
+    """docs/physics.md section 6.7: p = delta / (R_o^2 / (E_o t_o) + R_i^2 / (E_i t_i)), 92.9 psi
+    for the default bat, with the explicit contact's penalty k (per area) in series: p = delta /
+    (the rings' compliance + 1 / k), 87.5 psi on this coarse mesh (SLSFAC E / diagonal is soft on
     0.5-in elements). 2 %: the static solve of the same 16-sided mesh with a stiff penalty
     gives the thin ring to 0.03 % (lab/barrel), and the relaxation leaves 0.5-0.9 % unsettled on
     three meshes (16 x 0.5, 32 x 0.2, 48 x 0.1 in; docs/notes/bbs.md)."""

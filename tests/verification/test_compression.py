@@ -1,7 +1,8 @@
 """Ball compression (ASTM F1888) by mass-scaled, damped explicit dynamics in real time.
 
 Checks against independent expectations:
-* an elastic, nearly incompressible sphere between plates follows Hertz (verification.md);
+* an elastic, nearly incompressible sphere between plates follows Hertz (docs/physics.md
+  section 8, case 3);
 * the run is quasi-static (kinetic energy, top/bottom plate forces) and its answer does not depend
   on the solver's loading rate (the mass scale);
 * MAT_006 at 1 in/min is governed by its long-time modulus: it gives the elastic (K, G_inf) answer;

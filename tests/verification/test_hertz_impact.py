@@ -1,4 +1,5 @@
-"""Hertz impact of an elastic sphere on a rigid wall (verification.md case 1) and energy balance.
+"""Hertz impact of an elastic sphere on a rigid wall (docs/physics.md section 8, case 1) and energy
+balance.
 
 R = 48.5 mm, m = 0.185 kg, E = 50 MPa, nu = 0.3, 3 m/s: Hertz gives F_max = 1186.0 N and a contact
 time of 1.7216 ms (delta_max / R = 3.6 %, quasi-static). Two model choices make the FE comparable
@@ -9,7 +10,7 @@ with Hertz's rigid, impenetrable wall and elastic ball:
   1.75 mm), which stretches the contact time by a third; ten times stiffer leaves it near 0.2 mm;
 * hourglass IHQ 4 (stiffness form), which stores rather than dissipates energy.
 
-Tolerances: contact time 3 % (verification.md). Peak force 8 %: the contact radius
+Tolerances: contact time 3 % (docs/physics.md section 8). Peak force 8 %: the contact radius
 a = sqrt(R delta) = 9.2 mm spans only about 1.5 surface elements of the 12-division ball (6.3 mm),
 so the force rises in ring-by-ring steps and its sampled peak overshoots the smooth Hertz curve;
 the error falls with refinement (+5.8 % at 12 divisions, +4.3 % at 16, measured when this test was
@@ -75,4 +76,4 @@ def test_elastic_impact_conserves_energy(hertz_run) -> None:
     energies = hertz_run.run.energies
     kinetic0 = 0.5 * hertz_run.run.mass * SPEED**2
     assert np.abs(energies[:, BALANCE]).max() < 0.005 * kinetic0  # balance: KE+IE+HG+BV+CE = KE0
-    assert hertz_run.measures.restitution >= 0.98  # verification.md: COR >= 0.98 explicit
+    assert hertz_run.measures.restitution >= 0.98  # docs/physics.md section 8: COR >= 0.98

@@ -1,7 +1,7 @@
 """Interference fit of two thin concentric tubes against the thin-ring closed form.
 
-physics.md section 6.7 (and section 8 case 9): a tube pressed into another with a radial overlap
-delta carries the contact pressure
+docs/physics.md section 6.7 (and section 8, case 9): a tube pressed into another with a radial
+overlap delta carries the contact pressure
 
     p = delta / (R_o^2 / (E_theta,o t_o) + R_i^2 / (E_theta,i t_i)),
 
@@ -83,8 +83,9 @@ def interference_solution(outer_rings: int, inner_rings: int) -> tuple[float, fl
 @pytest.mark.parametrize(("outer_rings", "inner_rings"), [(9, 9), (9, 13)])
 def test_interference_pressure_matches_thin_ring_formula(outer_rings: int,
                                                          inner_rings: int) -> None:  # fmt: skip
-    """Contact force per length and radian within 0.5 % of the membrane form, and the physics.md
-    pressure within 1.5 % (their R^2 against R R_c is 1 %); matched and unmatched rings.
+    """Contact force per length and radian within 0.5 % of the membrane form, and the
+    docs/physics.md section 6.7 pressure within 1.5 % (their R^2 against R R_c is 1 %); matched and
+    unmatched rings.
 
     0.5 %: the 32-sided polygon's hoop force sin(pi/n)/(pi/n) (0.16 %) and the penalty's
     compliance (1e-3 of the hoop stiffness).

@@ -32,7 +32,8 @@ def voigt_to_matrix(v: np.ndarray) -> np.ndarray:
 
 
 def test_rigid_rotation_carries_the_stress_along_exactly() -> None:
-    # physics.md 6.8: a rigidly rotating pre-stressed element keeps sigma(t) = Q sigma0 Q^T.
+    # docs/physics.md section 6.8: a rigidly rotating pre-stressed element keeps
+    # sigma(t) = Q sigma0 Q^T.
     mesh = make_box_mesh((0.01, 0.02, 0.015), (1, 1, 1))
     constants = MATERIAL_LAWS["mat006"].kernel_constants(
         {"bulk_modulus": 5e9, "g0": 1.5e8, "g_inf": 5e6, "beta": 0.0}

@@ -1,6 +1,6 @@
 """Verification of the MITC4 layered shell and the free-free modal solver against closed forms.
 
-References (``shared/reference/verification.md``): case 8 (free-free aluminium tube, Timoshenko),
+References (``docs/physics.md`` section 8): case 8 (free-free aluminium tube, Timoshenko),
 case 13 (n = 2 ovalling of a long thin tube, Love/Fluegge ring), case 10 (NAFEMS FV12 free plate);
 plus the membrane and bending patch tests of MacNeal & Harder (1985) on a distorted patch.
 """

@@ -46,8 +46,8 @@ DMA_TENSILE = "dma-tensile.csv"
 
 
 def shear_relaxation(material: MaterialSpec, times: Sequence[float]) -> np.ndarray:
-    """G(t) [Pa] of a MAT_006 (G_inf + (G0 - G_inf) e^(-beta t), physics.md 1.1) or Prony
-    material, the common measure the routes' different models are compared by."""
+    """G(t) [Pa] of a MAT_006 (G_inf + (G0 - G_inf) e^(-beta t), docs/physics.md section 1.1) or
+    Prony material, the common measure the routes' different models are compared by."""
     from batball.materials.prony import relaxation_modulus
 
     t = np.asarray(times, dtype=np.float64)

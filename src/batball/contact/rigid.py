@@ -5,7 +5,7 @@ half-cylinder of ASTM F2845 (CCOR, dynamic stiffness). Each slave node that pene
 by g > 0 gets the force k g n along the target's outward normal n; the target's reaction, the sum
 of the opposite forces, is what the load cells measure.
 
-Penalty stiffness (LS-DYNA conventions, physics.md section 6.6):
+Penalty stiffness (LS-DYNA conventions, docs/physics.md section 6.6):
 
 * SOFT = 0: a body segment of area A on an element of volume V has k = SLSFAC * SFS * K A^2 / V,
   with K the body's bulk modulus and SLSFAC = 0.1 by default (*CONTROL_CONTACT). A slave node takes

@@ -4,7 +4,7 @@ bucket search.
 The ball-bat contact of the batted-ball-speed test (LS-DYNA ``*CONTACT_AUTOMATIC_SURFACE_TO_
 SURFACE`` run both ways: the ball's surface nodes against the bat's shells, and the bat's nodes
 against the ball's surface quads) and the insert-barrel contact of the double-wall bat use it.
-physics.md section 6.6.
+docs/physics.md section 6.6.
 
 * Search: every master segment's bounding box, grown by the contact thickness and a margin, is
   binned into a uniform grid of buckets (cell size about the largest box); each slave node looks

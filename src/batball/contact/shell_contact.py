@@ -17,9 +17,9 @@ Shell-to-shell pairs (:func:`coaxial_ring_gaps`) tie each node of the inner surf
 e.g. the bat's insert) to the outer surface (the master, the barrel) at the same angle, the master
 point interpolated linearly between the master's two neighbouring rings, with the radial normal;
 the penalty per pair is a stiffness per area times the slave node's tributary area, so that a
-uniform overlap gives a uniform pressure (LS-DYNA's segment-based penalty, physics.md section 6.6,
-in the form an implicit solve needs). Rigid cylinders (:func:`rigid_cylinder_gaps`) model the
-barrel-compression platens.
+uniform overlap gives a uniform pressure (LS-DYNA's segment-based penalty, docs/physics.md
+section 6.6, in the form an implicit solve needs). Rigid cylinders (:func:`rigid_cylinder_gaps`)
+model the barrel-compression platens.
 """
 
 from __future__ import annotations

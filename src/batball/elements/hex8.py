@@ -5,10 +5,10 @@ Each step, for every element (``compute_hex8_forces``):
 1. the velocity gradient L = sum_I v_I (x) B_I / V from v^(n-1/2) on the mid-step geometry
    x^(n-1/2) = x^n - dt/2 v^(n-1/2) (Flanagan & Belytschko 1981 uniform strain);
 2. the stored deviatoric stresses rotated by the Hughes-Winget (Cayley) rotation of W dt, which is
-   exactly orthogonal, so the update is objective (physics.md section 6.8);
-3. the material update (MAT_006, physics.md section 1.3) and the pressure p = K ln(V0/V);
+   exactly orthogonal, so the update is objective (docs/physics.md section 6.8);
+3. the material update (MAT_006, docs/physics.md section 1.3) and the pressure p = K ln(V0/V);
 4. bulk viscosity q = rho l (Q1 l tr(D)^2 - Q2 c tr(D)) for tr(D) < 0, l = V^(1/3) (LS-DYNA's
-   default Q1 = 1.5, Q2 = 0.06; physics.md section 6.2);
+   default Q1 = 1.5, Q2 = 0.06; docs/physics.md section 6.2);
 5. nodal forces f_I = -sigma B_I on the geometry x^n, plus hourglass forces:
    LS-DYNA IHQ = 1 (viscous on the base vectors Gamma, a_h = QH rho V^(2/3) c / 4),
    IHQ = 2 (Flanagan-Belytschko viscous on the orthogonalised gamma, same coefficient) or

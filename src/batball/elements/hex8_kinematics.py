@@ -231,7 +231,7 @@ def advance_prony_term(
     h: Voigt, q: Tensor, de: Voigt, decay: float, scale: float
 ) -> tuple[Voigt, float]:
     """One further Prony term: h <- decay Q h Q^T + scale de, and its midpoint work per volume
-    h : de [J/m^3] (the same recursion as MAT_006's relaxing branch, physics.md section 1.3)."""
+    h : de [J/m^3] (the same recursion as MAT_006's relaxing branch, docs/physics.md 1.3)."""
     r = rotate_voigt(h, q)
     new = (
         decay * r[0] + scale * de[0],

@@ -2,7 +2,7 @@
 
 One in-plane integration point, one through-thickness point per layer (``*PART_COMPOSITE``,
 :mod:`batball.elements.shell_bt_section`), co-rotational frame and Belytschko-Tsay hourglass
-control; physics.md section 6.4, after Belytschko, Lin & Tsay (1984) and the LS-DYNA Theory
+control; docs/physics.md section 6.4, after Belytschko, Lin & Tsay (1984) and the LS-DYNA Theory
 Manual (Hallquist 2006, section 7).
 
 * Frame: e3 along r31 x r42, e1 along edge 1-2 projected on the plane, e2 = e3 x e1, rebuilt
@@ -12,7 +12,7 @@ Manual (Hallquist 2006, section 7).
   point at height z moves by theta x z e3, i.e. u = u0 + z theta_y, v = v0 - z theta_x. So
   kappa_x = theta_y,x, kappa_y = -theta_x,y, 2 kappa_xy = theta_y,y - theta_x,x,
   gamma_xz = w,x + theta_y, gamma_yz = w,y - theta_x (the sign-flipped form of the LS-DYNA
-  equations in physics.md, where M = -int z sigma dz; the two are the same element).
+  equations in docs/physics.md section 6.4, where M = -int z sigma dz; the same element).
 * Rate form: the strain rates at the centre (B1 = dN/dx, B2 = dN/dy) times dt update each layer's
   stress in the co-rotational frame, sigma_k += Qbar_k (d + z_k kappa_dot) dt, and the transverse
   shear force Q += H gamma_dot dt. Forces follow from virtual work on A (N . eps + M . kappa +
@@ -20,8 +20,9 @@ Manual (Hallquist 2006, section 7).
 * Hourglass: gamma_I = h_I - (h . x) B1_I - (h . y) B2_I with h = (1, -1, 1, -1); the hourglass
   rates q_M (in-plane, 2), q_B (rotations, 2), q_W (warping) are integrated into generalised
   stresses with the rate constants C_M = r A_max A (B.B)/8, C_B = r D_max A (B.B)/16,
-  C_W = r H_max t^2 (B.B)/12: the physics.md constants E t A/8, E t^3 A/192, kappa G t^3/12 with
-  E t, E t^3 / 12 and kappa G t replaced by the laminate's largest A, D and H diagonals.
+  C_W = r H_max t^2 (B.B)/12: the constants E t A/8, E t^3 A/192, kappa G t^3/12 of
+  docs/physics.md section 6.4 with E t, E t^3 / 12 and kappa G t replaced by the laminate's largest
+  A, D and H diagonals.
 
 With zero initial state, ``dt = 1`` and the velocities set to a small displacement field, one call
 gives the linear internal force K_BT u (:func:`small_displacement_forces`).
@@ -45,7 +46,7 @@ import numpy as np
 from batball.elements.shell_bt_section import LayeredSection
 from batball.numerics import FASTMATH
 
-#: Belytschko-Tsay hourglass ratios r (membrane, bending, warping); physics.md section 6.4.
+#: Belytschko-Tsay hourglass ratios r (membrane, bending, warping); docs/physics.md section 6.4.
 HOURGLASS_RATIO = 0.01
 
 

@@ -1,6 +1,6 @@
 """Section data of the explicit layered Belytschko-Tsay shell: one integration point per layer.
 
-As LS-DYNA's ``*PART_COMPOSITE`` (physics.md section 6.5): each single-angle layer k (braids
+As LS-DYNA's ``*PART_COMPOSITE`` (docs/physics.md section 6.5): each single-angle layer k (braids
 expanded) has one through-thickness point at its mid-surface z_k with weight t_k, so
 
     N = sum_k t_k sigma_k,  M = sum_k z_k t_k sigma_k,  sigma_k = Qbar_k (eps0 + z_k kappa).
@@ -69,7 +69,7 @@ class LayeredSection:
 def layer_wave_speed(laminate: Laminate) -> float:
     """Plate wave speed of the stiffest layer, sqrt(E_max / (rho (1 - nu_ab nu_ba))), m/s.
 
-    physics.md section 6.2 (LS-DYNA shell time step for orthotropic layers).
+    docs/physics.md section 6.2 (LS-DYNA shell time step for orthotropic layers).
     """
     speeds = [np.sqrt(max(ly.material.ea, ly.material.eb)
                       / (ly.material.density * (1.0 - ly.material.nu_ab * ly.material.prba)))

@@ -1,6 +1,6 @@
 """Explicit use of the layered Belytschko-Tsay shell: lumped mass, stable step, dynamic relaxation.
 
-* Lumped mass (physics.md section 6.1): each node gets a quarter of every attached cell's
+* Lumped mass (docs/physics.md section 6.1): each node gets a quarter of every attached cell's
   m0 A on its three translations, and on its three rotations the larger of the physical rotary
   inertia (I2 A / 4) and (m0 A / 4) (A + t^2) / 12. The second term is LS-DYNA's practice of
   scaling the shells' rotary inertia so that the membrane, not the rotations, set the stable step:
@@ -9,8 +9,8 @@
   (A alone was not enough there: a 10-mm plate on 10-mm quads went unstable). It slows rotations,
   so it is for explicit dynamics and relaxation, not for modal analysis (which uses
   :mod:`batball.elements.shell_stiffness`).
-* Stable step (physics.md section 6.2): dt_e = L_s / c, L_s = area / longest side, c the stiffest
-  layer's plate wave speed; dt = time_step_factor * min dt_e (TSSFAC 0.9). Selective mass
+* Stable step (docs/physics.md section 6.2): dt_e = L_s / c, L_s = area / longest side, c the
+  stiffest layer's plate wave speed; dt = time_step_factor * min dt_e (TSSFAC 0.9). Selective mass
   scaling (LS-DYNA DT2MS < 0) adds mass to the few cells whose step is below a target.
 * Dynamic relaxation: central differences with mass-proportional damping c = 2 omega_1 (critical
   for the lowest mode), omega_1 from the Rayleigh quotient of the current displacement

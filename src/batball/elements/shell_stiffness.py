@@ -2,7 +2,7 @@
 
 Formulation (a flat MITC4 shell with drilling stabilisation):
 
-* Element frame as the Belytschko-Tsay shell (physics.md section 6.4): e3 along (x3 - x1) x
+* Element frame as the Belytschko-Tsay shell (docs/physics.md section 6.4): e3 along (x3 - x1) x
   (x4 - x2), e1 along edge 1-2 projected onto the plane, e2 = e3 x e1. The nodes are projected onto
   the plane through their centroid (exact for the planar quads of the bat and tube meshes).
 * Six degrees of freedom per node, global (u_x, u_y, u_z, theta_x, theta_y, theta_z); the rotations
@@ -15,7 +15,7 @@ Formulation (a flat MITC4 shell with drilling stabilisation):
   bending without adding zero-energy modes).
 * Transverse shear by the MITC4 assumed covariant strains tied at the edge midpoints (Dvorkin &
   Bathe 1984; Bathe, Finite Element Procedures, section 5.4.2), with stiffness H = kappa_s
-  sum_k t_k R_k^T diag(G_ca, G_bc) R_k, kappa_s = 5/6 (LS-DYNA SHRF; physics.md section 6.5).
+  sum_k t_k R_k^T diag(G_ca, G_bc) R_k, kappa_s = 5/6 (LS-DYNA SHRF; docs/physics.md section 6.5).
 * Drilling: a penalty k_d (theta_3,i - omega)^2 at each node, omega = (v,x - u,y)/2 the in-plane
   rotation at the centre, k_d = alpha * A66 * area with alpha = 1e-3 by default: rigid rotations
   cost nothing, and the drilling freedom no longer makes K singular.

@@ -2,7 +2,7 @@
 
 Seed: "Construction of the Composite Bat Finite Element Model" (the 10-in insert pressed in with a
 0.001-in interference, pre-stressed by dynamic relaxation, Figures 10 and 13), "Bat Barrel
-Compression" and "Barrel Compression" (Table 2); physics.md sections 5.1 and 6.7.
+Compression" and "Barrel Compression" (Table 2); docs/physics.md sections 5.1 and 6.7.
 
 Model: the bat's MITC4 shells (:mod:`batball.elements.shell_stiffness`), linear elastic, small
 displacements. The insert touches the barrel through node-to-surface penalty gaps

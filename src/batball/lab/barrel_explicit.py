@@ -9,8 +9,8 @@ with them, as in the seed's LS-DYNA model: by default the statics' own MITC4 ele
 co-rotational (:mod:`batball.elements.shell_corotational`), or the BBS test's one-point
 Belytschko-Tsay shells (:mod:`batball.elements.shell_bt`, ``shell="bt"``), whose hourglass
 control sets part of the answer under the platens' nearly point load (docs/notes/barrel.md). The
-static answer is reached by dynamic relaxation (physics.md 6.7), the platens moved slowly and
-each travel level held until the bat stops moving.
+static answer is reached by dynamic relaxation (docs/physics.md section 6.7), the platens moved
+slowly and each travel level held until the bat stops moving.
 
 * **Bat and fit:** the shells, layered sections, lumped masses (selective mass scaling to the
   barrel's step: inertia is fictitious in a relaxation) and the insert's column contact of

@@ -1,8 +1,9 @@
-"""The virtual batted-ball-speed test (ASTM F2219 as the seed ran it, physics.md section 4).
+"""The virtual batted-ball-speed test (ASTM F2219 as the seed ran it, docs/physics.md section 4).
 
 The bat, at rest, may turn about a pivot axis 6 in from the knob (z; the bat's axis is x); the
 ball is fired along -y at the barrel 6 in from the end cap. The run goes on until the ball has
-left the bat and its speed is steady (the seed ran 2 ms). Measurements (physics.md 4.1-4.2):
+left the bat and its speed is steady (the seed ran 2 ms). Measurements (docs/physics.md
+sections 4.1-4.2):
 
 * collision efficiency e_A = v_out / v_in, v the ball's centre-of-mass speed along the flight
   line (v_out > 0: rebound);
@@ -12,13 +13,13 @@ left the bat and its speed is steady (the seed ran 2 ms). Measurements (physics.
   omega the bat's rigid-body angular velocity after the impact (its angular momentum about the
   pivot over I_pivot);
 * BBS = e_A v_pitch + (1 + e_A) v_bat, 25 and 85 mph by default (the ASA slow-pitch constants
-  that make the seed's Table 9 consistent, physics.md 4.2 and 4.4).
+  that make the seed's Table 9 consistent, docs/physics.md sections 4.2 and 4.4).
 
 The model: :mod:`batball.solvers.ball_bat` (one explicit scheme, hex ball, Belytschko-Tsay
 shells, penalty contact both ways, the pivot as a rigid band turning about the axis). Contact
-stiffness, LS-DYNA SOFT = 0 style (physics.md 6.6): every ball surface node keeps the stiffness
-the ball tests give it (SLSFAC K A^2 / V of its faces, the ball being the softer side); a bat
-node against the ball gets the ball faces' stiffness per area, SLSFAC K A / V, times its own
+stiffness, LS-DYNA SOFT = 0 style (docs/physics.md section 6.6): every ball surface node keeps the
+stiffness the ball tests give it (SLSFAC K A^2 / V of its faces, the ball being the softer side); a
+bat node against the ball gets the ball faces' stiffness per area, SLSFAC K A / V, times its own
 tributary area. The insert touches the barrel's bore through a node-to-column contact
 (:mod:`batball.contact.columns`; shell thicknesses as offsets, stiffness SLSFAC E A / diagonal
 of the barrel's segments).
@@ -90,7 +91,7 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup, *, store: Path | None = None
 
 @dataclass(frozen=True)
 class BbsMeasures:
-    """The batted-ball-speed numbers (SI; physics.md section 4).
+    """The batted-ball-speed numbers (SI; docs/physics.md section 4).
 
     Attributes:
         inbound_speed, rebound_speed: ball centre-of-mass speed before and after [m/s] (rebound

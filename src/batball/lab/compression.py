@@ -1,4 +1,5 @@
-"""The virtual ball-compression test (ASTM F1888; physics.md section 3.2; seed "Ball Compression").
+"""The virtual ball-compression test (ASTM F1888; docs/physics.md section 3.2; the seed's "Ball
+Compression").
 
 The ball sits between two rigid flat plates; the bottom plate is fixed and the top plate moves
 down at the test's rate (1 in/min) until it has travelled 0.25 in; the force at 0.25 in is the

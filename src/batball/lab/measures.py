@@ -6,9 +6,9 @@
 * Dynamic stiffness (ASTM F2845, "normalised by ball weight and speed"): the linear-spring form
   DS = F_peak^2 / (m v_in^2) [lbf/in], which returns k exactly for an undamped spring ball.
 * Peak force: the largest load-cell force, i.e. the target's reaction along the flight path.
-* Contact time: no standard definition exists (physics.md section 3.3). Here it is the time from
-  the first to the last instant the force is at or above ``threshold`` times the peak force
-  (default 1 %, as in the OpenRadioss peer run of ``shared/reference/peer-runs.md``); a threshold
+* Contact time: no standard definition exists (docs/physics.md section 3.3). Here it is the time
+  from the first to the last instant the force is at or above ``threshold`` times the peak force
+  (default 1 %, as in the OpenRadioss peer run of ``docs/physics.md`` section 9); a threshold
   of 0 gives the span of any non-zero force.
 """
 

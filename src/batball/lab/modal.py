@@ -1,4 +1,4 @@
-"""The bat's free-free modal test (physics.md section 5.3; seed "Modal Analysis", Table 3).
+"""The bat's free-free modal test (docs/physics.md section 5.3; seed "Modal Analysis", Table 3).
 
 The bat's shells (MITC4, :mod:`batball.elements.shell_stiffness`) with each part's laminate and
 lumped mass; the 30 lowest modes by shift-invert Lanczos (:mod:`batball.solvers.modal`).
@@ -8,7 +8,7 @@ starts from the bat's pre-stressed state) and ``"bonded"``. ``"bonded"``: each i
 rigidly to the barrel wall: its displacement is the barrel's (linearly interpolated between the
 two nearest barrel rings at the same angle) plus the barrel rotation times the radial offset
 between the two mid-surfaces, and its rotation the barrel's. This is the "bonded" bound of
-physics.md section 7.3: stiffer in hoop than the seed's fitted double wall. ``"contact"``: the
+docs/physics.md section 7.3: stiffer in hoop than the seed's fitted double wall. ``"contact"``: the
 pre-stressed interference fit of :mod:`batball.lab.barrel` linearised: every closed fit gap is a
 radial penalty spring and the walls slide freely (frictionless), the other bound; the insert's
 free axial slide and spin are then two more zero-frequency modes.

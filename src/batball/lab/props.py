@@ -1,6 +1,6 @@
 """Bat mass properties (ASTM F2398): weight, balance point, MOI about the 6-in pivot and the CM.
 
-Definitions (``shared/reference/physics.md`` section 5.2; ``verification.md`` case 20): the balance
+Definitions (``docs/physics.md`` section 5.2 and section 8, case 20): the balance
 point is the distance of the centre of mass from the knob end along the bat axis; the MOI is taken
 about the pivot axis, perpendicular to the bat axis (here the z axis through x = 6 in), so a mass
 at (x, y, z) contributes m r_perp^2 with r_perp^2 = (x - x_pivot)^2 + y^2.

@@ -8,7 +8,7 @@ sigma_i = tau_i / (lambda_j lambda_k) along the principal directions. Unloading 
 tau = (1 - D) tau_load with D = (1 - HU) (1 - (W / W_max)^SHAPE), W the energy density on the
 (first) loading curve and W_max its largest value so far.
 
-Sources followed (physics.md section 2, verified with the stored copies below):
+Sources followed (docs/physics.md section 2, verified with the stored copies below):
 
 * card fields and defaults: ``ansys/pydyna`` keyword classes ``mat_low_density_foam.py`` and
   ``mat_fu_chang_foam.py``;
@@ -24,13 +24,13 @@ Sources followed (physics.md section 2, verified with the stored copies below):
   (https://impetus.no/support/manual/?command=MAT_FOAM), the usual one for such a coefficient
   (a fraction of the element's critical damping, like LS-DYNA's linear bulk viscosity);
 * MAT_057's rate term (ED, BETA1): a one-term Maxwell stress sigma_r = int E_d exp(-beta_1 (t -
-  s)) D ds added to the foam stress (physics.md 2.1 item 7, [M]); updated with MAT_006's exact
-  recursion in the Jaumann frame.
+  s)) D ds added to the foam stress (docs/physics.md section 2.1, an assumed form); updated with
+  MAT_006's exact recursion in the Jaumann frame.
 
 What is not implemented, and why: MAT_057's BETA (creep recovery of the unloading curve; LS-DYNA's
 default 0 is what the model does), FAIL (tension is held at TC), KCON (the effective modulus is
 always LS-DYNA's default max(E, largest curve slope)), MAT_083's analytic constants (D0..C5; only
-the table route TBID, as physics.md 2.2 item 5 recommends), PVID, TFLAG = 1 and the running
+the table route TBID, docs/physics.md section 2.2), PVID, TFLAG = 1 and the running
 average of the rate (SRAF): the scalar rate is the true strain rate along the most compressed
 principal direction (RFLAG = 0, SFLAG = 0) through a first-order filter of cut-off
 ``rate_filter``, like LAW90's.

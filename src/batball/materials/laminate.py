@@ -1,6 +1,6 @@
 """Laminates: plies, braid expansion, classical lamination theory (ABD) and effective moduli.
 
-Conventions (``shared/reference/physics.md`` sections 6.5 and 7.1):
+Conventions (``docs/physics.md`` sections 6.5 and 7.1):
 
 * Plies are listed from the inner surface outward; z runs along the outward shell normal from
   -t/2 (inner surface) to +t/2 (outer surface), measured from the laminate mid-plane.

@@ -3,7 +3,7 @@
 Only the elastic part of MAT_022 is declared (the seed's bat analyses are elastic; the Chang-Chang
 strengths are left out). Axes: ``a`` is the fibre direction, ``b`` the in-plane transverse
 direction, ``c`` the shell normal. Source: LS-DYNA Keyword Manual, MAT_022 (fields as in
-``ansys/pydyna:.../auto/mat/mat_composite_damage.py``); ``shared/reference/physics.md`` section 6.5.
+``ansys/pydyna:.../auto/mat/mat_composite_damage.py``); ``docs/physics.md`` section 6.5.
 
 **PRBA is the minor Poisson's ratio** nu_ba (contraction along ``a`` under stress along ``b``);
 the major ratio is nu_ab = PRBA * EA / EB. Entering the major ratio (0.27 for carbon) as PRBA gives
@@ -105,7 +105,7 @@ class OrthotropicLamina:
 
         Voigt order (11, 22, 12) with engineering shear strain:
         Q11 = EA/D, Q22 = EB/D, Q12 = nu_ba EA/D, Q66 = GAB, D = 1 - nu_ab nu_ba
-        (physics.md section 6.5; Jones, Mechanics of Composite Materials, eq. 2.61).
+        (docs/physics.md section 6.5; Jones, Mechanics of Composite Materials, eq. 2.61).
         """
         denominator = 1.0 - self.nu_ab * self.prba
         q12 = self.prba * self.ea / denominator

@@ -5,9 +5,9 @@ N pairs (G_i, beta_i):
     G(t) = G_inf + sum_i G_i exp(-beta_i t),   G0 = G(0) = G_inf + sum_i G_i.
 
 Each term is a Maxwell branch updated with the exact-exponential recursion of MAT_006
-(``shared/reference/physics.md`` section 1.3), so N = 1 is MAT_006 with G0 - G_inf = G_1.
+(``docs/physics.md`` section 1.3), so N = 1 is MAT_006 with G0 - G_inf = G_1.
 Source: LS-DYNA Keyword Manual, MAT_076 (fields GI, BETAI as in
-``ansys/pydyna:.../auto/mat/mat_general_viscoelastic.py``); physics.md section 1.1.
+``ansys/pydyna:.../auto/mat/mat_general_viscoelastic.py``); docs/physics.md section 1.1.
 
 Kernel constants, shape (2 N + 2,): K, G0, G_inf, beta_1, then (G_i, beta_i) for i = 2..N.
 For N = 1 that is MAT_006's (K, G0, G_inf, beta) exactly, and the hex kernel reads both the same

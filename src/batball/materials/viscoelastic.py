@@ -4,7 +4,7 @@ G(t) = G_inf + (G0 - G_inf) exp(-beta t); deviatoric stress is the hereditary in
 deviatoric rate of deformation, integrated in a corotational (Jaumann) frame; the pressure is
 p = K ln(V0/V). Sources: LS-DYNA Keyword Manual, MAT_006 (fields as in
 ``ansys/pydyna:.../auto/mat/mat_viscoelastic.py``); Herrmann & Peterson (1968); the recursion of
-``shared/reference/physics.md`` section 1.3 (Taylor-Pister-Goudreau / Simo-Hughes), exact for a
+``docs/physics.md`` section 1.3 (Taylor-Pister-Goudreau / Simo-Hughes), exact for a
 deviatoric rate that is constant over a step.
 """
 
@@ -96,7 +96,7 @@ from batball.numerics import FASTMATH  # noqa: E402
 
 @nb.njit(inline="always", fastmath=FASTMATH)
 def relaxation_factor(beta_dt: float) -> float:
-    """(1 - exp(-x)) / x, with its series where x is tiny (physics.md section 1.3)."""
+    """(1 - exp(-x)) / x, with its series where x is tiny (docs/physics.md section 1.3)."""
     if beta_dt < 1e-6:
         return 1.0 - 0.5 * beta_dt + beta_dt * beta_dt / 6.0
     return (1.0 - np.exp(-beta_dt)) / beta_dt

@@ -2,7 +2,7 @@
 
 Quads use the LS-DYNA ``*ELEMENT_SHELL`` / VTK_QUAD node order: nodes 1-2-3-4 counter-clockwise
 seen from the side the normal points to; the normal is (x3 - x1) x (x4 - x2). The material a-axis
-of a layered shell with AOPT = 0 follows edge 1-2 (physics.md section 6.5).
+of a layered shell with AOPT = 0 follows edge 1-2 (docs/physics.md section 6.5).
 """
 
 from __future__ import annotations

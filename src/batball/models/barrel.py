@@ -350,7 +350,7 @@ def compression_supports(model: BarrelModel, options: BarrelTestOptions,
 
 
 def thin_ring_interference_pressure(spec: BatSpec) -> float:
-    """physics.md section 6.7: p = delta / (R_o^2/(E_theta,o t_o) + R_i^2/(E_theta,i t_i)), Pa,
+    """docs/physics.md section 6.7: p = delta / (R_o^2/(E_theta,o t_o) + R_i^2/(E_theta,i t_i)), Pa,
     with the barrel part at the insert's middle and mid-surface radii."""
     assert spec.insert is not None
     middle = 0.5 * (spec.insert.start + spec.insert.end)

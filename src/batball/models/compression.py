@@ -77,7 +77,7 @@ def relaxed_hertz(constants: np.ndarray, radius: float, approach: float) -> tupl
     squeezed by ``approach`` between two rigid plates (each contact takes half).
 
     F = 4/3 E* sqrt(R) (d/2)^(3/2), E* = E / (1 - nu^2) with E, nu from K and G_inf
-    (verification.md, Hertz; Johnson, Contact Mechanics, section 4.2).
+    (docs/physics.md section 8, case 3; Johnson, Contact Mechanics, section 4.2).
     """
     bulk, g_inf = float(constants[BULK]), float(constants[G_INF])
     young = 9.0 * bulk * g_inf / (3.0 * bulk + g_inf)

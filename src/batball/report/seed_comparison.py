@@ -16,7 +16,8 @@ nobody measured stays empty and the report says why. Percent differences are sig
 experiment than the seed's LS-DYNA, as close, farther) is given only to fitted and predicted rows
 on the converged meshes: a coarse mesh's value is indicative.
 
-Source: ``shared/seed/000_25d27d381ae2ff56.txt``, Tables 1-9 (values in ``specs/data``).
+Source: the seed study ("Batted-Ball Performance of a Composite Softball Bat as a Function of
+Ball Type"), Tables 1-9 (values in ``specs/data``).
 """
 
 from __future__ import annotations

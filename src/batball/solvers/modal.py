@@ -2,7 +2,7 @@
 
 With no supports K is singular (six rigid-body modes), so the shift sigma is negative: K - sigma M
 is then positive definite and factorisable, and the modes nearest sigma (the rigid ones and the
-lowest flexible ones) converge first (physics.md section 5.3; SciPy ``eigsh`` shift-invert mode).
+lowest flexible ones) converge first (docs/physics.md section 5.3; SciPy ``eigsh`` shift-invert).
 """
 
 from __future__ import annotations

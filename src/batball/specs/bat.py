@@ -128,7 +128,7 @@ class InsertSpec:
         start, end: axial span from the knob end, m; inside a cylindrical stretch of the barrel.
         layup: plies from the inner surface outward.
         interference: radial overlap of the insert's outer surface with the barrel's inner
-            surface before assembly, m (the delta of physics.md section 8, case 9).
+            surface before assembly, m (the delta of docs/physics.md section 8, case 9).
     """
 
     start: float

@@ -1,9 +1,10 @@
 """The seed study's published numbers (Tables 1-9), in SI, for comparison and regression tests.
 
-Source: ``shared/seed/000_25d27d381ae2ff56.txt`` (a composite softball bat and two ball types,
-modelled in HyperMesh + LS-DYNA). The values live in ``specs/data/seed_tables.toml`` with their
-units; ``_exp`` fields are the measurements, ``_fe`` fields the seed's LS-DYNA results, and
-``*_pct_printed`` the "% Difference" columns exactly as printed (see the notes in the TOML file).
+Source: the seed study, "Batted-Ball Performance of a Composite Softball Bat as a Function of
+Ball Type" (a composite softball bat and two ball types, modelled in HyperMesh + LS-DYNA). The
+values live in ``specs/data/seed_tables.toml`` with their units; ``_exp`` fields are the
+measurements, ``_fe`` fields the seed's LS-DYNA results, and ``*_pct_printed`` the
+"% Difference" columns exactly as printed (see the notes in the TOML file).
 """
 
 from __future__ import annotations

@@ -29,8 +29,8 @@ TINY_BAT = ["--circumferential", "8", "--axial-size", "1 in"]
 
 
 def test_relaxation_of_mat006_and_prony_at_zero_and_long_times() -> None:
-    """G(0) = G0 and G(t >> 1/beta) = G_inf for MAT_006 (physics.md 1.1); G(0) = G_inf + sum G_i
-    for Prony. The seed's type-1 ball: G0 22,500 psi, G_inf 750 psi."""
+    """G(0) = G0 and G(t >> 1/beta) = G_inf for MAT_006 (docs/physics.md section 1.1);
+    G(0) = G_inf + sum G_i for Prony. The seed's type-1 ball: G0 22,500 psi, G_inf 750 psi."""
     mat006 = load_ball_spec("type1").material
     g = shear_relaxation(mat006, [0.0, 1.0])
     assert g[0] / PSI == pytest.approx(22500.0, rel=1e-12)
@@ -102,8 +102,9 @@ def test_each_route_runs_end_to_end(tmp_path: Path, capsys: pytest.CaptureFixtur
     """cor, ccor and dma routes in one command on a 4-division ball and an 8 x 1-in bat, with
     the smallest budget (the start and one least-squares step): a plumbing test (the numbers
     mean nothing on these meshes), checking what holds whatever the mesh: the error is the
-    prediction minus the measured BBS, BBS = 85 + 110 e_A with |e_A| < 1 (ASA, physics.md
-    4.2), the DMA ball keeps the given K and fits the exact moduli of its own model."""
+    prediction minus the measured BBS, BBS = 85 + 110 e_A with |e_A| < 1 (ASA,
+    docs/physics.md section 4.2), the DMA ball keeps the given K and fits the exact moduli of its
+    own model."""
     f = _tiny_route_files(tmp_path / "data")
     args = ["compare-calibrations", "--ball", "type1", "--cor-targets", str(f["cor.toml"]),
             "--ccor-targets", str(f["ccor.toml"]), "--dma", str(f["dma.csv"]),

@@ -1,6 +1,6 @@
 """The double-wall bat's interference fit and barrel compression on a coarse mesh (16 x 0.4 in).
 
-Expectations are closed forms (physics.md section 6.7 thin rings, the membrane hoop force
+Expectations are closed forms (docs/physics.md section 6.7 thin rings, the membrane hoop force
 N = p R_c), the linearity of a frictionless elastic fit, and symmetry; the store and the CLI
 are checked for their files and reuse.
 """

@@ -30,7 +30,7 @@ def test_bbs_json_has_the_keys_and_writes_the_run_folder(tmp_path: Path, capsys)
     assert s["inbound_mph"] == pytest.approx(95.0)
     e_a = s["collision_efficiency"]
     assert e_a == pytest.approx(s["rebound_mph"] / 95.0, rel=1e-9)
-    assert s["bbs_mph"] == pytest.approx(85.0 + 110.0 * e_a, rel=1e-9)  # physics.md 4.2, ASA
+    assert s["bbs_mph"] == pytest.approx(85.0 + 110.0 * e_a, rel=1e-9)  # ASA: docs/physics.md 4.2
     assert s["bbcor"] == pytest.approx(e_a * (1 + s["k"]) + s["k"], rel=1e-9)
     assert s["energy_balance_error"] < 0.01
     folder = Path(s["run_folder"])

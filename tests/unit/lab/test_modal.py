@@ -40,8 +40,8 @@ def test_insert_tie_carries_rigid_motion_and_bat_stiffness_has_none() -> None:
 
 def test_modal_json_reports_two_bending_and_two_hoop_frequencies(tmp_path: Path, capsys) -> None:
     """Coarse bat: six rigid modes, first bending in the 150-250 Hz band of full-size bats
-    (verification.md case 19, within 5 %); first hoop within the n = 2 ring estimate of the
-    bonded 0.15-in barrel wall, 1950-2560 Hz (physics.md section 7.3; the insert is bonded
+    (docs/physics.md section 8, case 19, within 5 %); first hoop within the n = 2 ring estimate of
+    the bonded 0.15-in barrel wall, 1950-2560 Hz (docs/physics.md section 7.3; the insert is bonded
     here), the upper end raised 7 % for the ovalling error of 16 quads around
     (docs/notes/modal.md)."""
     args = ["modal", "--bat", "default", "--insert", "bonded", "--json", "--runs-dir",

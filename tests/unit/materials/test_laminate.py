@@ -1,5 +1,5 @@
-"""Laminates: CLT moduli of braids against physics.md 7.1, balance and symmetry of the seed's
-braid, a hand-computed ply stiffness, and the PRBA (minor Poisson's ratio) convention."""
+"""Laminates: CLT moduli of braids against docs/physics.md section 7.1, balance and symmetry of the
+seed's braid, a hand-computed ply stiffness, and the PRBA (minor Poisson's ratio) convention."""
 
 from __future__ import annotations
 
@@ -15,7 +15,8 @@ GPA = 1e9
 
 
 def carbon(**changes: float) -> OrthotropicLamina:
-    """AS4/3501-6 (physics.md 7.1): E1 147, E2 10.3, G12 7.0 GPa, nu12 0.27, PRBA = minor."""
+    """AS4/3501-6 (docs/physics.md section 7.1): E1 147, E2 10.3, G12 7.0 GPa, nu12 0.27, PRBA =
+    minor."""
     values = dict(density=1600.0, ea=147 * GPA, eb=10.3 * GPA, ec=10.3 * GPA,
                   prba=0.27 * 10.3 / 147, gab=7.0 * GPA, gbc=3.5 * GPA, gca=7.0 * GPA)  # fmt: skip
     values.update(changes)

@@ -1,5 +1,6 @@
 """The N-term Prony law (MAT_076 style) in the hex kernel: N = 1 is MAT_006, N = 3 follows the
-closed-form response to a constant deviatoric rate (physics.md section 1.3, summed over terms)."""
+closed-form response to a constant deviatoric rate (docs/physics.md section 1.3, summed over
+terms)."""
 
 from __future__ import annotations
 
@@ -79,8 +80,8 @@ def test_three_term_kernel_with_two_empty_terms_reduces_to_mat006() -> None:
 
 
 def test_three_term_kernel_matches_the_closed_form_at_constant_rate() -> None:
-    """The recursion is exact for a constant rate (physics.md 1.3), term by term; what is left
-    is the pure-shear flow's second-order geometry change over 2 ms at 1000/s (gamma = 2e-2:
+    """The recursion is exact for a constant rate (docs/physics.md section 1.3), term by term; what
+    is left is the pure-shear flow's second-order geometry change over 2 ms at 1000/s (gamma = 2e-2:
     the kernel's L is exact for a linear velocity field, so 1e-6 relative is round-off)."""
     constants = MATERIAL_LAWS["prony3"].kernel_constants(PRONY3)
     rate, dt, n_steps = 1000.0, 1e-6, 2000

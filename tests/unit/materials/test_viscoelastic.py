@@ -1,4 +1,5 @@
-"""MAT_006 pointwise update against its closed forms (physics.md section 1.3 and 8.1)."""
+"""MAT_006 pointwise update against its closed forms (docs/physics.md section 1.3; section 8,
+case 2)."""
 
 import numpy as np
 import pytest
@@ -24,7 +25,8 @@ def shear_history(rate: float, dt: float, n_steps: int, constants: np.ndarray) -
 
 
 def test_constant_shear_rate_matches_closed_form_1790_psi() -> None:
-    # physics.md 1.3: gamma_dot = 1000/s, dt = 1 us, 2000 steps, ball-1 constants -> 1790.0 psi.
+    # docs/physics.md section 1.3: gamma_dot = 1000/s, dt = 1 us, 2000 steps, ball-1 constants
+    # -> 1790.0 psi.
     constants = MATERIAL_LAWS["mat006"].kernel_constants(TYPE1)
     tau = shear_history(1000.0, 1e-6, 2000, constants)
     t = 2e-3

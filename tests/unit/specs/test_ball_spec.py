@@ -75,7 +75,7 @@ def test_embedded_ball_has_seed_table4_constants(
 
 def test_mean_density_of_a_12in_6p75oz_ball_is_about_400_kg_per_m3() -> None:
     ball = ball_spec_from_dict(_valid_document(), source="test")
-    # physics.md conventions: 3.74e-5 lbf s^2/in^4 = 400 kg/m^3.
+    # docs/physics.md, units: 3.74e-5 lbf s^2/in^4 = 400 kg/m^3.
     assert ball.mean_density == pytest.approx(400.0, rel=0.005)
 
 
