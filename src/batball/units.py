@@ -191,3 +191,52 @@ def format_number(value: float, *, digits: int = 4) -> str:
 def _strip_zeros(text: str) -> str:
     """Drop trailing zeros after a decimal point, and the point itself if nothing follows."""
     return text.rstrip("0").rstrip(".") if "." in text else text
+
+
+#: The unit suffixes of summary keys (``ds_lbf_per_in``), longest first, each with its SI
+#: suffix and the factor to SI. Suffixes already SI (``_j``, ``_hz``, ``_s``, ``_deg``) stay.
+SUMMARY_UNITS: tuple[tuple[str, str, float], ...] = (
+    ("_oz_in2", "_kg_m2", OZ_IN2),
+    ("_lbf_per_in", "_n_per_m", LBF / IN),
+    ("_in_per_min", "_m_per_s", IN / 60.0),
+    ("_in2", "_m2", IN * IN),
+    ("_lbf", "_n", LBF),
+    ("_psi", "_pa", PSI),
+    ("_mph", "_m_per_s", MPH),
+    ("_oz", "_kg", OZ),
+    ("_in", "_m", IN),
+    ("_ms", "_s", 1e-3),
+    ("_g", "_kg", 1e-3),
+)
+
+
+def summary_in_si(summary: Any) -> Any:
+    """``summary`` (a run's summary.json object) with every key that names a non-SI unit renamed
+    to its SI unit and its numbers converted (nested tables and lists too): ``ds_lbf_per_in``
+    becomes ``ds_n_per_m``. Keys without a unit suffix are kept as they are."""
+    if isinstance(summary, dict):
+        out = {}
+        for key, value in summary.items():
+            for suffix, si_suffix, factor in SUMMARY_UNITS:
+                if isinstance(key, str) and key.endswith(suffix):
+                    out[key[: -len(suffix)] + si_suffix] = _scaled(value, factor)
+                    break
+            else:
+                out[key] = summary_in_si(value)
+        return out
+    if isinstance(summary, list):
+        return [summary_in_si(v) for v in summary]
+    return summary
+
+
+def _scaled(value: Any, factor: float) -> Any:
+    """Numbers in ``value`` (a number, a list or a table of them) times ``factor``."""
+    if isinstance(value, bool) or value is None or isinstance(value, str):
+        return value
+    if isinstance(value, int | float):
+        return value * factor
+    if isinstance(value, list):
+        return [_scaled(v, factor) for v in value]
+    if isinstance(value, dict):
+        return {k: _scaled(v, factor) for k, v in value.items()}
+    return value

@@ -138,3 +138,39 @@ def test_to_unit_and_from_unit_are_inverse() -> None:
     assert to_unit(0.44704, "mph") == pytest.approx(1.0, rel=1e-15)
     assert to_unit(from_unit(6.93, "oz"), "oz") == pytest.approx(6.93, rel=1e-15)
     assert to_unit(1.0, "ms") == pytest.approx(1000.0, rel=1e-15)
+
+
+def test_a_summary_in_si_renames_and_converts_by_the_key_units() -> None:
+    from batball.units import summary_in_si
+
+    si = summary_in_si({
+        "ds_lbf_per_in": 7190.0, "inbound_mph": 95.0, "contact_time_ms": 1.03,
+        "moi_pivot_oz_in2": 6920.0, "rate_in_per_min": 1.0, "bending_hz": [146.0, 555.0],
+        "seed_table2": {"experiment": {"preload_lbf": 186.0}}, "ccor": 0.38, "ball": "type1",
+        "warnings": [],
+    })  # fmt: skip
+    # independent figures: 1 lbf/in = 175.1268 N/m, 1 mph = 0.44704 m/s exactly,
+    # 1 oz in^2 = 0.028349523125 kg * 0.0254^2 m^2, 1 lbf = 4.4482216152605 N
+    assert si["ds_n_per_m"] == pytest.approx(7190.0 * 175.126835, rel=1e-8)
+    assert si["inbound_m_per_s"] == pytest.approx(42.4688, rel=1e-12)
+    assert si["contact_time_s"] == pytest.approx(1.03e-3, rel=1e-12)
+    assert si["moi_pivot_kg_m2"] == pytest.approx(6920 * 0.028349523125 * 0.0254**2, rel=1e-12)
+    assert si["rate_m_per_s"] == pytest.approx(0.0254 / 60, rel=1e-12)
+    assert si["bending_hz"] == [146.0, 555.0]  # already SI
+    assert si["seed_table2"]["experiment"]["preload_n"] == pytest.approx(186 * 4.4482216152605)
+    assert (si["ccor"], si["ball"], si["warnings"]) == (0.38, "type1", [])
+
+
+def test_the_command_line_prints_si_on_request(capsys: pytest.CaptureFixture[str],
+                                               tmp_path) -> None:  # fmt: skip
+    import json
+
+    from batball.cli import main
+
+    args = ["props", "--circumferential", "8", "--axial-size", "1 in", "--runs-dir", str(tmp_path)]
+    assert main([*args, "--json"]) == 0
+    us = json.loads(capsys.readouterr().out)
+    assert main([*args, "--json", "--units", "si"]) == 0
+    si = json.loads(capsys.readouterr().out)
+    assert si["weight_kg"] == pytest.approx(us["weight_oz"] * 0.028349523125, rel=1e-12)
+    assert "weight_oz" not in si

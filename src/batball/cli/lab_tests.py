@@ -16,6 +16,7 @@ from batball.cli.options import (
 )
 from batball.lab.registry import LAB_TESTS, load_subject
 from batball.results.store import check_output_folder
+from batball.units import summary_in_si
 
 
 def add_lab_test_parsers(sub: Any) -> None:
@@ -27,6 +28,9 @@ def add_lab_test_parsers(sub: Any) -> None:
         add_options(p, test.options)
         add_store_options(p)
         add_json_option(p)
+        p.add_argument("--units", choices=("us", "si"), default="us",
+                       help="the units results are shown in: us (lbf, in, mph, oz; the "
+                       "standards' units, as stored) or si (N, m, m/s, kg)")  # fmt: skip
         p.set_defaults(handler=run_lab_test_command, lab_test=test.name)
 
 
@@ -45,5 +49,18 @@ def run_lab_test_command(args: argparse.Namespace) -> int:
         bar.close()
     for warning in summary["warnings"]:
         print(f"batball: warning: {warning}", file=sys.stderr)
+    if args.units == "si":
+        summary = summary_in_si(summary)
+        print(json.dumps(summary, indent=2) if args.json else describe_any(summary))
+        return 0
     print(json.dumps(summary, indent=2) if args.json else test.describe(summary))
     return 0
+
+
+def describe_any(summary: dict[str, Any]) -> str:
+    """Every number and word of a summary, one per line, as its key names it (the key carries
+    the unit)."""
+    rows = [(k, v) for k, v in summary.items() if isinstance(v, int | float | str | bool)]
+    width = max(len(k) for k, _ in rows)
+    return "\n".join(f"  {k:<{width}}  {v:.6g}" if isinstance(v, float) else f"  {k:<{width}}  {v}"
+                     for k, v in rows)  # fmt: skip
