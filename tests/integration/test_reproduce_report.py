@@ -61,6 +61,7 @@ def test_report_files_and_measured_values(report: Path) -> None:
         assert len(summary["tests"][name]["runs"]) == 4, name
     assert summary["model_of_record"] == {"balls": ["type1-fit", "type2-fit"], "bat": "fitted"}
     assert summary["meshes"]["converged"] is False
+    assert summary["warnings"][0].startswith("coarse meshes (--quick)")  # indicative numbers
     rows = {r["key"]: r for t in summary["tables"].values() for r in t["rows"]}
     # every row has its role; nothing on these meshes is given a verdict
     assert {r["role"] for r in rows.values()} == {"fitted", "predicted", "check"}

@@ -4,6 +4,7 @@ calibration routes (``compare-calibrations``, ``synthetic-data``, ``synthetic-no
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -50,6 +51,8 @@ def run_reproduce_command(args: argparse.Namespace) -> int:
                                reuse=not args.no_reuse, command=command,
                                calibrate=calibrate)  # fmt: skip
     result = reproduce(options)
+    for warning in result.warnings:
+        print(f"batball: warning: {warning}", file=sys.stderr)
     print(dump_summary(result) if args.json else describe_reproduction(result))
     return 0
 

@@ -180,6 +180,20 @@ class Reproduction:
         """Whether the meshes are coarser than the converged ones (no verdicts then)."""
         return not self.options.meshes.converged
 
+    @property
+    def warnings(self) -> list[str]:
+        """What the reader should know before the numbers: coarse meshes behind numbers the
+        report sets beside the experiment, and each run's own warnings, with its label."""
+        out = []
+        if self.indicative:
+            out.append("coarse meshes (--quick): every number beside the experiment is "
+                       "indicative and the report gives no verdicts; run without --quick")
+        for outcome in self.outcomes:
+            for run in outcome.runs:
+                out += [f"{outcome.test.name} {run.label}: {w}"
+                        for w in run.summary.get("warnings", [])]  # fmt: skip
+        return out
+
 
 def reproduce(
     options: ReproduceOptions, *, tests: dict[str, ReproductionTest] | None = None
@@ -264,6 +278,7 @@ def summary_document(result: Reproduction) -> dict[str, Any]:
     m = result.options.meshes
     return {
         "command": result.options.command,
+        "warnings": result.warnings,
         "meshes": {
             "ball_divisions": m.ball_divisions,
             "bat_circumferential": m.bat_circumferential,
