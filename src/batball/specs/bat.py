@@ -358,7 +358,7 @@ def _table_list(table: Mapping[str, Any], key: str, *, field: str) -> list[Mappi
     return items
 
 
-def _angle(value: object, *, field: str) -> float:
+def parse_angle(value: object, *, field: str) -> float:
     """An angle with its unit (``"30 deg"``), in rad; a bare number is refused (deg or rad?)."""
     if not isinstance(value, str) or re.search(r"[A-Za-z]", value) is None:
         raise SpecError(field, value, _ANGLE_TEXT)
@@ -418,7 +418,7 @@ def _ply_from_dict(table: Mapping[str, Any], *, field: str) -> PlySpec:
     return PlySpec(
         material=str(material),
         thickness=_quantity(table, "thickness", "length", field=f"{field}.thickness"),
-        angle=_angle(_required(table, "angle", field=f"{field}.angle", allowed=_ANGLE_TEXT),
+        angle=parse_angle(_required(table, "angle", field=f"{field}.angle", allowed=_ANGLE_TEXT),
                      field=f"{field}.angle"),
         braided=braided,
         label=label,

@@ -1,0 +1,160 @@
+"""Design studies: a planted optimum found, the Pareto front and the influences against closed
+forms, certification margins, resuming, and bad study files refused in one line."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from batball.design import design_study_from_dict, load_design_study, run_design_study
+from batball.design.run import Design, influence, pareto_front
+from batball.design.study import Constraint, Mesh, Objective
+from batball.errors import SpecError
+from batball.lab.registry import LAB_TESTS
+from batball.specs import load_bat_spec
+from batball.units import OZ
+
+COARSE = {"circumferential": 8, "axial_size": "1 in", "ball_divisions": 2}
+
+
+def study(**extra: object) -> dict[str, object]:
+    document: dict[str, object] = {
+        "name": "planted", "bat": "default", "mesh": COARSE,
+        "sampling": {"designs": 8, "seed": 3},
+        "parameter": [{"name": "endcap", "set": "lumped_mass:endcap",
+                       "range": ["0 oz", "3 oz"]}],
+    }  # fmt: skip
+    document.update(extra)
+    return document
+
+
+def moi_with_endcap(mass_oz: float, runs: Path) -> float:
+    """The props test's MOI of the default bat with ``mass_oz`` on its end cap."""
+    from batball.calibrate.bat_fit import FreeParameter
+
+    spec = FreeParameter.parse("lumped_mass:endcap").apply(load_bat_spec("default"),
+                                                           mass_oz * OZ)  # fmt: skip
+    props = LAB_TESTS["props"]
+    setup = props.setup(circumferential=8, axial_size="1 in")
+    return props.execute({"bat": spec}, setup, runs_dir=runs, reuse=True)[0]["moi_pivot_oz_in2"]
+
+
+def test_a_planted_moi_optimum_is_found(tmp_path: Path) -> None:
+    """The MOI is linear in the end cap's lumped mass (parallel axes), so the mass that gives a
+    target MOI is the interpolation between two props runs; the study must find it."""
+    i0, i3 = moi_with_endcap(0.0, tmp_path / "runs"), moi_with_endcap(3.0, tmp_path / "runs")
+    assert moi_with_endcap(1.5, tmp_path / "runs") == pytest.approx((i0 + i3) / 2, rel=1e-9)
+    target = i0 + 0.37 * (i3 - i0)  # a mass of 1.11 oz, which no Sobol point hits
+    doc = study(optimise={"evaluations": 20},
+                objective=[{"response": "moi_pivot_oz_in2", "target": f"{target} oz*in**2"}])
+    result = run_design_study(design_study_from_dict(doc), out_dir=tmp_path / "out",
+                              runs_dir=tmp_path / "runs", workers=0)  # fmt: skip
+    best = result.ranking[0]
+    assert best.values[0] / OZ == pytest.approx(0.37 * 3.0, abs=0.005)  # 0.2 % of the range
+    assert abs(best.responses["moi_pivot_oz_in2"] - target) < 1.0  # oz*in^2
+    assert best.stage == "optimise"
+    best_file = next((tmp_path / "out" / "best").glob("1-*.toml"))
+    assert load_bat_spec(best_file).part("endcap").lumped_mass == pytest.approx(best.values[0])
+
+
+def test_minimum_weight_is_the_thinnest_wall(tmp_path: Path) -> None:
+    """Weight grows with a ply's thickness: its minimum is the range's lower end."""
+    doc = study(parameter=[{"name": "carbon", "set": "thickness:barrel-carbon",
+                            "range": ["0.02 in", "0.08 in"]}],
+                optimise={"evaluations": 12}, objective=[{"minimize": "weight_oz"}])  # fmt: skip
+    result = run_design_study(design_study_from_dict(doc), out_dir=tmp_path / "out",
+                              runs_dir=tmp_path / "runs", workers=0)  # fmt: skip
+    assert result.ranking[0].values[0] / 0.0254 == pytest.approx(0.02, abs=0.0006)
+
+
+def test_a_study_resumes_from_its_stored_runs(tmp_path: Path) -> None:
+    doc = design_study_from_dict(study(objective=[{"minimize": "weight_oz"}]))
+    first = run_design_study(doc, out_dir=tmp_path / "a", runs_dir=tmp_path / "runs", workers=0)
+    stored = sorted(p.name for p in (tmp_path / "runs").iterdir())
+    again = run_design_study(doc, out_dir=tmp_path / "b", runs_dir=tmp_path / "runs", workers=0)
+    assert sorted(p.name for p in (tmp_path / "runs").iterdir()) == stored  # nothing new ran
+    assert [d.responses for d in again.designs] == [d.responses for d in first.designs]
+
+
+def designs(points: list[tuple[float, float]]) -> list[Design]:
+    mesh = Mesh(8, 0.0254, 2)
+    return [Design(f"d{i}", "sample", mesh, (0.0,), {"a": a, "b": b})
+            for i, (a, b) in enumerate(points)]  # fmt: skip
+
+
+def test_the_pareto_front_of_two_objectives() -> None:
+    """Maximise a, minimise b: (3, 3), (2, 1) and (1, 0) are not beaten in both; (2, 2) is
+    beaten by (2, 1) and (1, 1) by (1, 0)."""
+    found = designs([(3, 3), (2, 2), (2, 1), (1, 1), (1, 0)])
+    s = design_study_from_dict(study())
+    s = type(s)(**{**s.__dict__, "objectives": (Objective("a", "max"), Objective("b", "min"))})
+    assert pareto_front(s, found) == {"d0", "d2", "d4"}
+
+
+def test_influence_recovers_a_linear_response() -> None:
+    """y = 2 x1 - x2 exactly: the standardised coefficients are 2 sd(x1)/sd(y) and -sd(x2)/sd(y),
+    R² = 1."""
+    rng = np.random.default_rng(0)
+    x = rng.uniform(size=(30, 2))
+    y = 2 * x[:, 0] - x[:, 1]
+    s = design_study_from_dict(study(parameter=[
+        {"name": "p1", "set": "lumped_mass:endcap", "range": ["0 oz", "1 oz"]},
+        {"name": "p2", "set": "thickness:barrel-carbon", "range": ["0.02 in", "0.08 in"]}]))
+    mesh = Mesh(8, 0.0254, 2)
+    found = [Design(f"d{i}", "sample", mesh, tuple(row), {"weight_oz": v})
+             for i, (row, v) in enumerate(zip(x, y, strict=True))]  # fmt: skip
+    coef = influence(s, found)["weight_oz"]
+    assert coef["p1"] == pytest.approx(2 * x[:, 0].std() / y.std(), rel=1e-9)
+    assert coef["p2"] == pytest.approx(-x[:, 1].std() / y.std(), rel=1e-9)
+    assert coef["r2"] == pytest.approx(1.0, abs=1e-12)
+
+
+def test_the_asa_rule_is_98_mph_at_110_mph() -> None:
+    doc = study(ball=[{"name": "type1", "speeds": ["95 mph", "110 mph"]}],
+                constraint=[{"rule": "asa-2004-bbs"}])  # fmt: skip
+    (c,) = design_study_from_dict(doc).constraints
+    assert (c.response, c.upper, c.lower) == ("bbs_type1_110mph", 98.0, None)
+    assert c.margin(96.5) == pytest.approx(1.5) and c.margin(98.4) == pytest.approx(-0.4)
+    assert Constraint("weight_oz", lower=20.0, upper=24.0).margin(23.0) == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize(("change", "field"), [
+    ({"name": "a b"}, "name"),
+    ({"bogus": 1}, "bogus"),
+    ({"parameter": []}, "parameter"),
+    ({"parameter": [{"name": "x", "set": "angle:nosuch", "range": ["1 deg", "2 deg"]}]},
+     "free"),
+    ({"parameter": [{"name": "x", "set": "angle:barrel-carbon", "range": ["10", "20 deg"]}]},
+     "parameter[0].range"),
+    ({"parameter": [{"name": "x", "set": "angle:barrel-carbon", "range": ["30 deg", "20 deg"]}]},
+     "parameter[0].range"),
+    ({"parameter": [{"name": "x", "set": "lumped_mass:endcap", "range": ["-1 oz", "2 oz"]}]},
+     "parameter[0].range"),
+    ({"sampling": {"method": "grid"}}, "sampling.method"),
+    ({"sampling": {"designs": 0}}, "sampling.designs"),
+    ({"mesh": {"circumferential": 3}}, "mesh.circumferential"),
+    ({"constraint": [{"rule": "nope"}]}, "constraint[0].rule"),
+    ({"constraint": [{"rule": "asa-2004-bbs"}]}, "constraint[0].rule"),  # no 110-mph ball
+    ({"constraint": [{"response": "weight_oz", "max": "24"}]}, "constraint[0].max"),
+    ({"objective": [{"maximize": "bbs_type9_110mph"}]}, "objective"),
+    ({"ball": [{"name": "nosuch"}]}, "ball"),
+    ({"optimise": {"evaluations": 5}}, "optimise.evaluations"),  # and no objective
+])
+def test_a_bad_study_is_one_error_naming_its_field(change: dict, field: str) -> None:
+    with pytest.raises(SpecError) as error:
+        design_study_from_dict(study(**change))
+    assert error.value.field.startswith(field), str(error.value)
+
+
+def test_the_command_line_refuses_a_missing_study_in_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from batball.cli import main
+
+    assert main(["design", str(tmp_path / "none.toml")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("batball: error: study") and err.count("\n") == 1
+    with pytest.raises(SpecError):
+        load_design_study(tmp_path / "none.toml")
