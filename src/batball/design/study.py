@@ -242,7 +242,9 @@ def design_study_from_dict(document: Mapping[str, Any], *, base: Path = Path("."
     if unknown:
         raise SpecError(unknown[0], document[unknown[0]], f"a study key: {', '.join(STUDY_KEYS)}")
     name = check_name("name", document.get("name"))
-    bat = _spec_path(document.get("bat", "default"), base, embedded=("default", "fitted"))
+    from batball.specs.bat import EMBEDDED_BATS, FITTED_BATS
+
+    bat = _spec_path(document.get("bat", "default"), base, embedded=EMBEDDED_BATS + FITTED_BATS)
     spec = load_bat_spec(bat)
     parameters = tuple(
         _parameter(item, f"parameter[{i}]", spec)
@@ -348,7 +350,10 @@ def _parameter(item: Mapping[str, Any], field: str, spec: BatSpec) -> DesignPara
         raise SpecError(f"{field}.set", setting, _SET_TEXT)
     if setting != INSERT_INTERFERENCE:
         free = FreeParameter.parse(setting, field=f"{field}.set")
-        free.value(spec)  # the part or label exists and is one value on the base bat
+        try:  # the part or label exists and is one value on the base bat
+            free.value(spec)
+        except SpecError as error:
+            raise SpecError(f"{field}.set", setting, error.allowed) from None
     elif spec.insert is None:
         raise SpecError(f"{field}.set", setting, "a bat with an insert")
     kind = setting.partition(":")[0]
@@ -375,10 +380,11 @@ def _text(value: float, unit: str) -> str:
 
 
 def _ball(item: Mapping[str, Any], field: str, base: Path) -> BallChoice:
-    from batball.specs.ball import EMBEDDED_BALLS, load_ball_spec
+    from batball.specs.ball import EMBEDDED_BALLS, EXAMPLE_BALLS, FITTED_BALLS, load_ball_spec
 
     _known(item, field, ("name", "speeds"))
-    source = _spec_path(item.get("name"), base, embedded=EMBEDDED_BALLS)
+    source = _spec_path(item.get("name"), base,
+                        embedded=EMBEDDED_BALLS + FITTED_BALLS + EXAMPLE_BALLS)  # fmt: skip
     ball = load_ball_spec(source)
     speeds = item.get("speeds", ["110 mph"])
     if not isinstance(speeds, list) or not speeds:

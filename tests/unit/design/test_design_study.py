@@ -125,7 +125,7 @@ def test_the_asa_rule_is_98_mph_at_110_mph() -> None:
     ({"bogus": 1}, "bogus"),
     ({"parameter": []}, "parameter"),
     ({"parameter": [{"name": "x", "set": "angle:nosuch", "range": ["1 deg", "2 deg"]}]},
-     "free"),
+     "parameter[0].set"),
     ({"parameter": [{"name": "x", "set": "angle:barrel-carbon", "range": ["10", "20 deg"]}]},
      "parameter[0].range"),
     ({"parameter": [{"name": "x", "set": "angle:barrel-carbon", "range": ["30 deg", "20 deg"]}]},
