@@ -34,6 +34,7 @@ from batball.design.rules import BALL_COR_SPEED, bpf_column
 from batball.design.study import DesignParameter, DesignStudy, Mesh, response_unit
 from batball.errors import SimulationError
 from batball.specs.bat import BatSpec
+from batball.units import MPH
 
 #: The penalty per unit of relative constraint violation added to the local search's score.
 VIOLATION_PENALTY = 1e3
@@ -41,9 +42,10 @@ VIOLATION_PENALTY = 1e3
 
 @dataclass(frozen=True)
 class DesignJob:
-    """One design to evaluate: the bat, the mesh, what to run and where the runs are stored."""
+    """One design to evaluate: the bat (as its spec document, which pickles to a worker), the
+    mesh, what to run and where the runs are stored."""
 
-    spec: BatSpec
+    bat: dict[str, Any]
     mesh: Mesh
     balls: tuple[tuple[str, str, tuple[float, ...]], ...]  # (name, source, speeds m/s)
     modal: bool
@@ -60,23 +62,25 @@ def evaluate_design(job: DesignJob) -> dict[str, float]:
     """The responses of one design (module docs; units in the names)."""
     from batball.lab.registry import LAB_TESTS
     from batball.specs import load_ball_spec
+    from batball.specs.bat import bat_spec_from_dict
 
+    spec = bat_spec_from_dict(job.bat, source=f"design {job.bat['name']}")
     store = {"runs_dir": job.runs_dir, "reuse": job.reuse}
     mesh = {"circumferential": job.mesh.circumferential,
             "axial_size": _length(job.mesh.axial_size)}  # fmt: skip
     props = LAB_TESTS["props"]
-    s, _ = props.execute({"bat": job.spec}, props.setup(**mesh), **store)
+    s, _ = props.execute({"bat": spec}, props.setup(**mesh), **store)
     out = {"weight_oz": s["weight_oz"], "balance_point_in": s["balance_point_in"],
            "moi_pivot_oz_in2": s["moi_pivot_oz_in2"]}  # fmt: skip
     if job.modal:
         modal = LAB_TESTS["modal"]
-        s, _ = modal.execute({"bat": job.spec}, modal.setup(**mesh), **store)
+        s, _ = modal.execute({"bat": spec}, modal.setup(**mesh), **store)
         bending, hoop = list(s["bending_hz"]) + [math.nan] * 2, list(s["hoop_hz"]) + [math.nan] * 2
         out |= {"bending1_hz": bending[0], "bending2_hz": bending[1], "hoop1_hz": hoop[0],
                 "hoop2_hz": hoop[1]}  # fmt: skip
     if job.barrel:
         barrel = LAB_TESTS["barrel"]
-        s, _ = barrel.execute({"bat": job.spec}, barrel.setup(**mesh), **store)
+        s, _ = barrel.execute({"bat": spec}, barrel.setup(**mesh), **store)
         out |= {"barrel_preload_lbf": s["preload_lbf"],
                 "barrel_final_load_lbf": s["final_load_lbf"]}  # fmt: skip
     bbs = LAB_TESTS["bbs"]
@@ -86,7 +90,7 @@ def evaluate_design(job: DesignJob) -> dict[str, float]:
         ball = load_ball_spec(source)
         for speed in speeds:
             setup = bbs.setup(**mesh, divisions=job.mesh.ball_divisions, speed=f"{speed!r} m/s")
-            s, _ = bbs.execute({"bat": job.spec, "ball": ball}, setup, **store)
+            s, _ = bbs.execute({"bat": spec, "ball": ball}, setup, **store)
             bbs_col, bbcor_col, ea_col = BallChoice(name, source, speeds).columns(speed)
             out |= {bbs_col: s["bbs_mph"], bbcor_col: s["bbcor"],
                     ea_col: s["collision_efficiency"]}  # fmt: skip
@@ -178,8 +182,10 @@ class _Evaluator:
         study = self.study
         spec = design_spec(self.base, study.parameters, design.values, f"{study.name}-{design.id}")
         balls = tuple((b.name, b.source, b.speeds) for b in study.balls)
-        return DesignJob(spec, design.mesh, balls, study.needs_modal, study.needs_barrel,
-                         self.runs_dir, self.reuse)  # fmt: skip
+        from batball.specs.bat import bat_spec_to_toml_dict
+
+        return DesignJob(bat_spec_to_toml_dict(spec), design.mesh, balls, study.needs_modal,
+                         study.needs_barrel, self.runs_dir, self.reuse)  # fmt: skip
 
     def evaluate(self, points: Sequence[Sequence[float]], stage: str, mesh: Mesh) -> list[Design]:
         designs = [Design(design_id(v), stage, mesh, tuple(float(x) for x in v)) for v in points]
@@ -470,6 +476,8 @@ def summary_document(result: DesignResult, best: Sequence[Design]) -> dict[str, 
         "parameters": [{"name": p.name, "set": p.setting, "unit": p.unit,
                         "range": [p.to_unit(p.lower), p.to_unit(p.upper)]}
                        for p in study.parameters],  # fmt: skip
+        "balls": [{"name": b.name, "source": b.source, "speeds_mph": [v / MPH for v in b.speeds]}
+                  for b in study.balls],  # fmt: skip
         "responses": {r: response_unit(r) for r in study.responses},
         "constraints": [{"response": c.response, "min": c.lower, "max": c.upper,
                          "rule": c.rule or None} for c in study.constraints],  # fmt: skip

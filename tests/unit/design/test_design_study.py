@@ -70,10 +70,11 @@ def test_minimum_weight_is_the_thinnest_wall(tmp_path: Path) -> None:
 
 
 def test_a_study_resumes_from_its_stored_runs(tmp_path: Path) -> None:
+    """The second run, in a process pool, finds every run the first (in this process) stored."""
     doc = design_study_from_dict(study(objective=[{"minimize": "weight_oz"}]))
     first = run_design_study(doc, out_dir=tmp_path / "a", runs_dir=tmp_path / "runs", workers=0)
     stored = sorted(p.name for p in (tmp_path / "runs").iterdir())
-    again = run_design_study(doc, out_dir=tmp_path / "b", runs_dir=tmp_path / "runs", workers=0)
+    again = run_design_study(doc, out_dir=tmp_path / "b", runs_dir=tmp_path / "runs", workers=2)
     assert sorted(p.name for p in (tmp_path / "runs").iterdir()) == stored  # nothing new ran
     assert [d.responses for d in again.designs] == [d.responses for d in first.designs]
 
