@@ -11,6 +11,7 @@ from typing import Any
 from batball.version import __version__
 
 __all__ = [
+    "FieldSeries",
     "Result",
     "__version__",
     "barrel",
@@ -22,6 +23,7 @@ __all__ = [
     "load_bat",
     "modal",
     "props",
+    "read_fields",
     "run_test",
 ]
 

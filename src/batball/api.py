@@ -13,7 +13,8 @@ keyword arguments with the same names and defaults (``--axial-size`` is ``axial_
 A dimensioned option takes text with its unit (``"95 mph"``) or a pint quantity; a bare number is
 an error naming the option, as is an option the test does not have. Every option is checked
 before anything runs. Runs go to the results store (``runs/`` unless ``runs_dir`` says otherwise)
-and a run with the same inputs is reused unless ``reuse=False``.
+and a run with the same inputs is reused unless ``reuse=False``. :func:`read_fields` reads a run's
+field frames (what ParaView shows) back as meshio meshes.
 """
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ from typing import Any
 from batball.errors import SpecError
 from batball.lab.protocol import LabTest
 from batball.lab.registry import LAB_TESTS, SUBJECT_DEFAULTS, load_subject
+from batball.results.fields import FieldSeries
+from batball.results.fields import read_fields as read_field_files
 from batball.specs import BallSpec, BatSpec
 
 
@@ -103,6 +106,37 @@ class Result:
         )
         folder = html.escape(self.run_dir.as_posix())
         return f"<b>batball {html.escape(self.test)}</b> <code>{folder}</code><table>{rows}</table>"
+
+
+def read_fields(run: Result | str | Path, *, deformed: bool = False) -> dict[str, FieldSeries]:
+    """The field time series of a run, read back with meshio: by name (the ``.pvd`` file's
+    stem), a :class:`~batball.results.fields.FieldSeries` of the frame times [s] and one
+    ``meshio.Mesh`` per frame, SI throughout.
+
+    A ball test (ccor, cor, compression) has ``"fields"`` (the ball's hexes; point data
+    ``displacement`` m, ``velocity`` m/s, ``contact_force`` N, ``contact_pressure`` Pa; cell data
+    ``stress`` (xx, yy, zz, xy, yz, zx), ``von_mises``, ``pressure`` Pa and
+    ``volumetric_strain`` ln(V/V0)) and ``"target"`` (the rigid target's surface); a bbs run
+    has ``"ball"`` (the same fields) and ``"bat"`` (the shell mid-surface: ``displacement``,
+    ``velocity``, ``angular_velocity``, ``contact_force``; cell data ``von_mises``, the largest
+    over the plies). :mod:`batball.solvers.frames` defines each field.
+
+    Args:
+        run: a :class:`Result`, a run folder or one ``.pvd`` file.
+        deformed: points in the deformed place (reference plus displacement) rather than the
+            reference.
+
+    Example:
+        >>> r = batball.ccor("type1", divisions=4)                   # doctest: +SKIP
+        >>> series = batball.read_fields(r)["fields"]                 # doctest: +SKIP
+        >>> series.cell_field("von_mises").shape       # (n_frames, n_cells)  # doctest: +SKIP
+        >>> mesh = series.meshes[-1]                   # a meshio.Mesh  # doctest: +SKIP
+
+    Raises:
+        FileNotFoundError: no such run folder or file, or no field series in it.
+    """
+    source = run.run_dir if isinstance(run, Result) else Path(run)
+    return read_field_files(source, deformed=deformed)
 
 
 def _axis_label(column: str) -> str:

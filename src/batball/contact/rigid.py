@@ -58,6 +58,17 @@ class RigidPlane:
         params[11:14] = packed_velocity(self.velocity)
         return TARGET_PLANE, params
 
+    def surface(self, *, center: np.ndarray, size: float) -> tuple[np.ndarray, np.ndarray]:
+        """The wall drawn for ParaView at t = 0: a square of side ``size`` [m] on the wall,
+        centred at the foot of ``center`` (3,) [m]; (points (4, 3) [m], quads (1, 4)), the
+        quad's right-hand normal out of the wall."""
+        n = unit(self.normal, "target.normal")
+        e1, e2 = plane_axes(n)
+        foot = center - ((center - self.point) @ n) * n
+        corners = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+        points = foot + 0.5 * size * (corners[:, :1] * e1 + corners[:, 1:] * e2)
+        return points, np.array([[0, 1, 2, 3]])
+
 
 @dataclass(frozen=True)
 class RigidCylinder:
@@ -92,6 +103,32 @@ class RigidCylinder:
         params[10] = 0.5 * self.length
         params[11:14] = packed_velocity(self.velocity)
         return TARGET_CYLINDER, params
+
+    def surface(self, *, center: np.ndarray | None = None, size: float = 0.0,
+                n_around: int = 24, n_along: int = 8) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+        """The impact face drawn for ParaView at t = 0: the half-cylinder's curved face, whole
+        (``center`` and ``size`` are a wall's and not used), ``n_around`` by ``n_along`` quads;
+        (points (n_points, 3) [m], quads (n_quads, 4)), right-hand normals outward."""
+        axis = unit(self.axis, "target.axis")
+        front = unit(self.front - (self.front @ axis) * axis, "target.front")
+        side = np.cross(axis, front)
+        angle = np.linspace(-0.5 * np.pi, 0.5 * np.pi, n_around + 1)
+        along = np.linspace(-0.5 * self.length, 0.5 * self.length, n_along + 1)
+        radial = np.cos(angle)[:, None] * front + np.sin(angle)[:, None] * side
+        points = (self.axis_point + self.radius * radial[:, None, :]
+                  + along[None, :, None] * axis).reshape(-1, 3)  # fmt: skip
+        i, j = np.meshgrid(np.arange(n_around), np.arange(n_along), indexing="ij")
+        first = (i * (n_along + 1) + j).ravel()
+        quads = np.stack([first, first + n_along + 1, first + n_along + 2, first + 1], axis=1)
+        return points, quads
+
+
+def plane_axes(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors e1, e2 in the plane of unit ``normal`` (3,) with e1 x e2 = normal."""
+    helper = np.array([1.0, 0.0, 0.0]) if abs(normal[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = np.cross(normal, helper)
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(normal, e1)
 
 
 def packed_velocity(velocity: np.ndarray | None) -> np.ndarray:

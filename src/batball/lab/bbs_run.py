@@ -2,8 +2,10 @@
 
 ``runs/bbs-<hash>/`` holds ``summary.json``, ``history.csv`` (time, contact force, ball velocity,
 bat angular velocity, angular momentum about the pivot, energies), ``force_time.png`` (the
-ball-bat contact force) and ``barrel_deformation.png`` (the barrel's radial deflection at the
-peak force, unrolled). Runs with the same inputs are reused.
+ball-bat contact force), ``barrel_deformation.png`` (the barrel's radial deflection at the
+peak force, unrolled) and, for ParaView, ``ball.pvd`` (the ball's hexes) and ``bat.pvd`` (the
+bat's shell mid-surface as quads), each with its per-frame VTU files, at the same few dozen
+instants (the fields of :mod:`batball.solvers.frames`). Runs with the same inputs are reused.
 """
 
 from __future__ import annotations
@@ -16,7 +18,9 @@ from typing import Any
 import numpy as np
 
 from batball.lab.bbs import BbsResult, run_bbs
+from batball.mesh import Mesh, ShellMesh
 from batball.models.bbs import BbsSetup
+from batball.results.fields import write_time_series
 from batball.results.plots import plot_force_time
 from batball.results.store import (
     atomic_path,
@@ -25,6 +29,7 @@ from batball.results.store import (
     write_csv_atomic,
     write_summary,
 )
+from batball.solvers.frames import BALL_CELL_FIELDS, Frame
 from batball.specs import BallSpec, BatSpec, ball_spec_to_toml_dict, bat_spec_to_toml_dict
 from batball.units import IN, LBF, MPH, OZ_IN2, PSI
 from batball.version import __version__
@@ -118,6 +123,24 @@ def write_history(folder: Path, result: BbsResult) -> None:
     write_csv_atomic(folder / "history.csv", columns)
 
 
+def write_bbs_fields(folder: Path, result: BbsResult) -> None:
+    """``ball.pvd`` and ``bat.pvd``: the run's frames of ball and bat (reference points of the
+    model as built, displacement from them)."""
+    coupled, run = result.model.coupled, result.run
+    n_bat = coupled.n_bat
+    ball = Mesh(coupled.points[n_bat:], result.model.ball_cells)
+    bat = ShellMesh(coupled.points[:n_bat], result.model.bat_mesh.cells)
+    for path, mesh, frames, cell_names in (
+        (folder / "ball.pvd", ball, run.ball_frames, BALL_CELL_FIELDS),
+        (folder / "bat.pvd", bat, run.bat_frames, ("von_mises",)),
+    ):
+        data: Frame = dict(frames)
+        displacement = data.pop("displacement")
+        cells = {name: data.pop(name) for name in cell_names if name in data}
+        write_time_series(path, mesh, run.frame_times, displacement, point_data=data,
+                          cell_data=cells)  # fmt: skip
+
+
 def plot_barrel_deformation(path: Path, result: BbsResult) -> None:
     """Radial deflection of the outer wall at the peak contact force (in), on the unrolled
     barrel around the impact point; the rigid rotation about the pivot removed."""
@@ -179,5 +202,6 @@ def run_bbs_test(
                     run.column("contact_force_n"), title=title)  # fmt: skip
     if not setup.rigid_bat:
         plot_barrel_deformation(folder / "barrel_deformation.png", result)
+    write_bbs_fields(folder, result)
     write_summary(folder, summary)
     return summary, folder

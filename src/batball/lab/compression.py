@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SimulationError
 from batball.mesh import Mesh
 from batball.models.compression import (
@@ -77,6 +78,7 @@ class CompressionResult:
         compression: the force at ``setup.displacement`` [N].
         kinetic_to_internal: kinetic over internal energy at the end.
         mass_scale: the density factor s; damping: the damping coefficient [1/s].
+        targets: the run's plates, top then bottom (for the field output).
     """
 
     ball: BallSpec
@@ -93,6 +95,14 @@ class CompressionResult:
     energy_balance_error: float
     mass_scale: float
     damping: float
+    targets: tuple[RigidPlane | RigidCylinder, ...] = ()
+
+    @property
+    def max_deflection(self) -> float:
+        """The ball's largest deformation between the plates over the run, plate travel minus
+        the penetration into both plates [m] (the displacement the test reads its force at)."""
+        run = self.run
+        return float(np.max(self.setup.rate * run.time - run.penetration.sum(axis=1)))
 
 
 def power_law_reading(displacement: np.ndarray, force: np.ndarray, at: float) -> float:
@@ -137,6 +147,7 @@ def run_compression(
         energy_balance_error=error,
         mass_scale=scale,
         damping=damping,
+        targets=tuple(contact.target for contact in model.contacts),
     )
 
 

@@ -2,7 +2,8 @@
 
 ``runs/compression-<hash>/`` holds ``summary.json``, ``curve.csv`` (plate travel, mean plate
 force and the top-bottom difference), ``force_displacement.png``, ``history.csv`` (every step's
-plate forces and energies), ``ball.toml`` and ``fields.pvd`` (the squeezed ball for ParaView).
+plate forces and energies), ``ball.toml``, ``fields.pvd`` (the squeezed ball for ParaView, the
+fields of :mod:`batball.solvers.frames`) and ``target.pvd`` (the two plates, the top one moving).
 Runs with the same inputs are reused.
 """
 
@@ -12,13 +13,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from batball.lab.compression import CompressionResult, run_compression
-from batball.lab.impact_run import ball_test_inputs
+from batball.lab.impact_run import ball_test_inputs, write_ball_fields
 from batball.mesh import mesh_quality
 from batball.models.compression import CompressionSetup
-from batball.results.fields import write_time_series
 from batball.results.plots import plot_lines
 from batball.results.store import (
     run_folder,
@@ -51,6 +49,8 @@ def summarise_compression(result: CompressionResult, wall_seconds: float) -> dic
             abs(result.force_difference[-1]) / max(result.compression, 1e-300)
         ),
         "kinetic_to_internal_energy": result.kinetic_to_internal,
+        "max_penetration_in": run.max_penetration / IN,
+        "max_deflection_in": result.max_deflection / IN,
         "energy_balance_error": result.energy_balance_error,
         "hourglass_energy_fraction": float(
             energies[ENERGY_COLUMNS.index("hourglass")] / max(internal, 1e-300)
@@ -107,9 +107,7 @@ def write_compression_outputs(
         title=f"Compression of ball {result.ball.name} at {summary['rate_in_per_min']:g} in/min",
         points=[(d_in, result.compression / LBF, f"{result.compression / LBF:.0f} lbf")],
     )
-    write_time_series(
-        folder / "fields.pvd", result.mesh, run.frame_times, run.frames.astype(np.float64)
-    )
+    write_ball_fields(folder, result.mesh, run, result.targets)
     write_summary(folder, summary)
 
 

@@ -13,8 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SimulationError
-from batball.lab.measures import ImpactMeasures, measure_impact
+from batball.lab.measures import ImpactMeasures, max_approach, measure_impact
 from batball.mesh import Mesh
 from batball.models.impact import ImpactSetup, build_impact_model
 from batball.solvers.explicit import (
@@ -28,14 +29,28 @@ from batball.specs import BallSpec
 
 @dataclass(frozen=True)
 class ImpactResult:
-    """An impact run: its setup, the measurements and the raw histories."""
+    """An impact run: its setup, the measurements and the raw histories.
+
+    Attributes:
+        load_cell: (n_steps,) the target's reaction along the flight path [N].
+        targets: the run's rigid targets (for the field output).
+    """
 
     ball: BallSpec
     setup: ImpactSetup
     measures: ImpactMeasures
     run: ExplicitResult
     mesh: Mesh
-    load_cell: np.ndarray  # (n_steps,) force along the flight path [N]
+    load_cell: np.ndarray
+    targets: tuple[RigidPlane | RigidCylinder, ...] = ()
+
+    @property
+    def max_deflection(self) -> float:
+        """The ball's deflection: the largest approach of its centre of mass toward the target
+        after the first contact [m] (:func:`batball.lab.measures.max_approach`)."""
+        run = self.run
+        direction = run.com_velocity[0] / np.linalg.norm(run.com_velocity[0])
+        return max_approach(run.time, run.com_velocity @ direction, run.contact_nodes > 0)
 
 
 def run_impact(
@@ -55,8 +70,9 @@ def run_impact(
         model, controls, setup.contact_threshold, progress=progress
     )
     return ImpactResult(
-        ball=ball, setup=setup, measures=measures, run=run, mesh=model.mesh, load_cell=load_cell
-    )
+        ball=ball, setup=setup, measures=measures, run=run, mesh=model.mesh, load_cell=load_cell,
+        targets=tuple(contact.target for contact in model.contacts),
+    )  # fmt: skip
 
 
 def run_impact_model(

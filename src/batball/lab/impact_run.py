@@ -1,8 +1,10 @@
 """Run a ball-impact test into the results store and summarise it with units.
 
 ``runs/<test>-<hash>/`` holds ``summary.json``, ``history.csv`` (time, load-cell force, ball
-velocity, energies), ``force_time.png``, ``ball.toml`` (the ball as run) and ``fields.pvd`` with
-its per-frame VTU files (the deformed ball for ParaView). Runs with the same inputs are reused.
+velocity, energies), ``force_time.png``, ``ball.toml`` (the ball as run), ``fields.pvd`` with its
+per-frame VTU files (the ball for ParaView: displacement, velocity, contact force and pressure,
+stress, von Mises stress, pressure, volumetric strain; :mod:`batball.solvers.frames`) and
+``target.pvd`` (the target's surface, frame by frame). Runs with the same inputs are reused.
 """
 
 from __future__ import annotations
@@ -14,10 +16,11 @@ from typing import Any
 
 import numpy as np
 
+from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.lab.impact import ImpactResult, run_impact
-from batball.mesh import mesh_quality
+from batball.mesh import Mesh, mesh_quality
 from batball.models.impact import ImpactSetup
-from batball.results.fields import write_time_series
+from batball.results.fields import write_target_series, write_time_series
 from batball.results.plots import plot_force_time
 from batball.results.store import (
     run_folder,
@@ -26,7 +29,8 @@ from batball.results.store import (
     write_summary,
     write_text_atomic,
 )
-from batball.solvers.explicit import BALANCE, ENERGY_COLUMNS
+from batball.solvers.explicit import BALANCE, ENERGY_COLUMNS, ExplicitResult
+from batball.solvers.frames import BALL_CELL_FIELDS
 from batball.specs import BallSpec, ball_spec_to_toml_dict
 from batball.units import IN, LBF, MPH, OZ
 from batball.version import __version__
@@ -65,6 +69,8 @@ def summarise(result: ImpactResult, wall_seconds: float) -> dict[str, Any]:
         "ball_mass_oz": run.mass / OZ,
         "energy_balance_error": float(np.abs(run.energies[:, BALANCE]).max() / kinetic0),
         "hourglass_energy_fraction": float(run.energies[-1, HOURGLASS] / kinetic0),
+        "max_penetration_in": run.max_penetration / IN,
+        "max_deflection_in": result.max_deflection / IN,
         "initial_kinetic_energy_j": kinetic0,
         "n_cells": result.mesh.n_cells,
         "n_points": result.mesh.n_points,
@@ -115,13 +121,25 @@ def write_outputs(folder: Path, result: ImpactResult, summary: dict[str, Any]) -
         title=title,
         threshold=result.setup.contact_threshold * result.measures.peak_force,
     )
-    write_time_series(
-        folder / "fields.pvd",
-        result.mesh,
-        result.run.frame_times,
-        result.run.frames.astype(np.float64),
-    )
+    write_ball_fields(folder, result.mesh, result.run, result.targets)
     write_summary(folder, summary)
+
+
+def write_ball_fields(
+    folder: Path, mesh: Mesh, run: ExplicitResult, targets: tuple[RigidPlane | RigidCylinder, ...]
+) -> None:
+    """``fields.pvd`` (the ball's frames, :mod:`batball.solvers.frames`) and ``target.pvd``
+    (the targets' surfaces, moving with their prescribed velocities) in ``folder``."""
+    data = dict(run.frame_data)
+    displacement = data.pop("displacement")
+    cells = {name: data.pop(name) for name in BALL_CELL_FIELDS if name in data}
+    write_time_series(folder / "fields.pvd", mesh, run.frame_times, displacement,
+                      point_data=data, cell_data=cells)  # fmt: skip
+    if targets:
+        center = mesh.points.mean(axis=0)
+        size = 2.5 * float(np.ptp(mesh.points[:, 0]))  # a flat wall's square: beyond the ball
+        write_target_series(folder / "target.pvd", targets, run.frame_times, center=center,
+                            size=size)  # fmt: skip
 
 
 def run_impact_test(

@@ -94,3 +94,19 @@ def measure_impact(
         inbound_speed=v_in,
         rebound_speed=rebound,
     )
+
+
+def max_approach(time: np.ndarray, velocity: np.ndarray, in_contact: np.ndarray) -> float:
+    """The ball's deflection in an impact: the largest distance its centre of mass travels
+    toward the target after the first contact [m], the time integral (trapezoidal) of
+    ``velocity`` (n_steps,) [m/s], its centre-of-mass velocity along the flight line, from the
+    first step where ``in_contact`` (n_steps,) is true, over ``time`` (n_steps,) [s]. Of a
+    spring ball this is the spring's largest compression (m v^2 / F_peak); it includes the
+    penalty's penetration into the target, which it is compared with. 0 without contact."""
+    touching = np.flatnonzero(in_contact)
+    if touching.size == 0:
+        return 0.0
+    first = touching[0]
+    t, v = time[first:], velocity[first:]
+    travel = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
+    return float(travel.max())

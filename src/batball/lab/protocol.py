@@ -155,12 +155,16 @@ def _number(value: Any, *, integer: bool, field: str) -> int | float:
 #: the balance within 1 %).
 HOURGLASS_LIMIT = 0.10
 BALANCE_LIMIT = 0.01
+#: The largest contact penetration, as a fraction of the ball's deflection, before a run is
+#: flagged: beyond it the penalty's compliance is a visible part of the measured deformation.
+PENETRATION_LIMIT = 0.05
 
 
 def run_warnings(summary: Mapping[str, Any]) -> list[str]:
     """What a careful analyst would be told about a finished run: hourglass energy over
     :data:`HOURGLASS_LIMIT` of the initial kinetic energy, an energy balance error over
-    :data:`BALANCE_LIMIT`. Each a sentence with its number and what to do."""
+    :data:`BALANCE_LIMIT`, a contact penetration over :data:`PENETRATION_LIMIT` of the ball's
+    deflection. Each a sentence with its number and what to do."""
     warnings = []
     hourglass = summary.get("hourglass_energy_fraction")
     if isinstance(hourglass, float) and hourglass > HOURGLASS_LIMIT:
@@ -173,6 +177,19 @@ def run_warnings(summary: Mapping[str, Any]) -> list[str]:
         warnings.append(
             f"the energy balance error is {100 * balance:.2f} % (over {100 * BALANCE_LIMIT:g} %): "
             "lower the time-step scale or check the contact"
+        )
+    penetration = summary.get("max_penetration_in")
+    deflection = summary.get("max_deflection_in")
+    if (
+        isinstance(penetration, float)
+        and isinstance(deflection, float)
+        and penetration > PENETRATION_LIMIT * deflection
+    ):
+        share = f"{100 * penetration / deflection:.1f} %" if deflection > 0 else "more than all"
+        warnings.append(
+            f"the ball sank {penetration:.4f} in into the target, {share} of its "
+            f"{deflection:.4f}-in deflection (over {100 * PENETRATION_LIMIT:g} %): the contact "
+            "penalty is too soft; raise the penalty scale (--sfs)"
         )
     return warnings
 

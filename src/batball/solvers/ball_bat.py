@@ -1,6 +1,6 @@
 """Coupled explicit dynamics of a hex-meshed ball and a shell-meshed bat on a pivot.
 
-One central-difference scheme for both bodies (physics.md section 6.1): lumped masses, one
+One central-difference scheme for both bodies (docs/physics.md section 6.1): lumped masses, one
 stable step for both (the smaller of the hexes' and the shells' steps, times TSSFAC), the ball's
 internal forces from the one-point hex kernel (:func:`ball_internal_forces`, the only call into
 :mod:`batball.elements.hex8`), the bat's from the layered Belytschko-Tsay kernel, and penalty
@@ -60,6 +60,16 @@ from batball.elements.shell_stiffness import ShellSection
 from batball.errors import SimulationError
 from batball.materials.foam import FoamTable
 from batball.numerics import FASTMATH
+from batball.solvers.frames import (
+    Frame,
+    FrameRecorder,
+    ball_frame,
+    bat_frame,
+    foam_cell_stress,
+    hex_cell_stress,
+    ply_von_mises,
+    surface_node_areas,
+)
 
 #: The fit's dynamic relaxation scales velocities by this each cycle (LS-DYNA's DRFCTR default).
 RELAX_FACTOR = 0.995
@@ -183,7 +193,9 @@ class CoupledControls:
     precision of the ball's hex kernel ("double" or "single"; ``ExplicitControls.precision``),
     the hourglass ratio r of the bat's shells (LS-DYNA's default 0.01) and the damping of the
     bat's deformation relative to its own rigid turn about the pivot, c [1/s] (the form of
-    ``*DAMPING_RELATIVE``, :func:`advance_bat`; 0: none, as the seed)."""
+    ``*DAMPING_RELATIVE``, :func:`advance_bat`; 0: none, as the seed) and about how many
+    field frames of ball and bat to keep over the end time (:mod:`batball.solvers.frames`;
+    0: only the first and the last)."""
 
     end_time: float = 2e-3
     time_step_scale: float = 0.9
@@ -193,6 +205,7 @@ class CoupledControls:
     precision: str = "double"
     shell_hourglass_ratio: float = HOURGLASS_RATIO
     bat_damping: float = 0.0
+    frame_count: int = 60
 
     def __post_init__(self) -> None:
         check_precision(self.precision)
@@ -490,6 +503,8 @@ class CoupledResult:
         prestress_kinetic_ratio: the relaxation's final over peak kinetic energy (NaN: none);
         interference_pressure: mean insert-barrel pressure after it [Pa]; prestress_reused:
             the relaxed fit was restored from a store, not relaxed in this run.
+        frame_times: (n_frames,) [s]; ball_frames, bat_frames: the fields of ball and bat at
+            those times by name, (n_frames, ...) float32 (:mod:`batball.solvers.frames`).
     """
 
     history: np.ndarray
@@ -502,6 +517,9 @@ class CoupledResult:
     prestress_kinetic_ratio: float = float("nan")
     interference_pressure: float = float("nan")
     prestress_reused: bool = False
+    frame_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    ball_frames: Frame = field(default_factory=dict)
+    bat_frames: Frame = field(default_factory=dict)
 
     def column(self, name: str) -> np.ndarray:
         """One history column by name."""
@@ -513,13 +531,13 @@ def relax_fit(pairs: Sequence[SegmentContact | ColumnContact], *, interference: 
               forces: Callable[[], np.ndarray], mass: np.ndarray, velocity: np.ndarray,
               moving: np.ndarray, dt: float, factor: float = RELAX_FACTOR,
               history: list[float] | None = None) -> float:  # fmt: skip
-    """Dynamic relaxation of an insert's fit (LS-DYNA ``*CONTROL_DYNAMIC_RELAXATION``, physics.md
-    6.7), shared by the BBS test and the explicit barrel test: the ``pairs``' ignored initial
-    overlap is reduced by ``interference`` [m] over ``ramp_steps``, then ``settle_steps``
-    more. Each cycle ``forces()`` returns the total force on the bat's nodes, (n_bat, 6), at
-    the current state (``points``, (n, 3), the bat's nodes first); then v += dt f / m, the
-    ``moving`` nodes move by dt v, and v is scaled by ``factor`` (DRFCTR). Velocities
-    (n_bat, 6) are zeroed at the end.
+    """Dynamic relaxation of an insert's fit (LS-DYNA ``*CONTROL_DYNAMIC_RELAXATION``,
+    docs/physics.md section 6.7), shared by the BBS test and the explicit barrel test: the
+    ``pairs``' ignored initial overlap is reduced by ``interference`` [m] over ``ramp_steps``, then
+    ``settle_steps`` more. Each cycle ``forces()`` returns the total force on the bat's nodes,
+    (n_bat, 6), at the current state (``points``, (n, 3), the bat's nodes first); then
+    v += dt f / m, the ``moving`` nodes move by dt v, and v is scaled by ``factor`` (DRFCTR).
+    Velocities (n_bat, 6) are zeroed at the end.
 
     Returns:
         The bat's kinetic energy at the end over its largest value (LS-DYNA's DRTOL measure);
@@ -579,6 +597,7 @@ class CoupledSolver:
         for pair in model.contacts:
             if isinstance(pair, ColumnContact):
                 pair.rotation_step = self.spin
+        self.ball_surface_area = surface_node_areas(model.points[n_bat:], model.ball.cells)
         self.ball_moving = np.ones(self.ball_points.shape[0], dtype=np.bool_)
         self.bat_moving = np.ones(n_bat, dtype=np.bool_)
         self.bat_moving[model.bat.band] = False
@@ -627,9 +646,9 @@ class CoupledSolver:
     def relax_bat(self, *, interference: float, ramp_steps: int, settle_steps: int,
                   factor: float = RELAX_FACTOR) -> float:  # fmt: skip
         """Dynamic relaxation of the bat alone before the impact (LS-DYNA
-        ``*CONTROL_DYNAMIC_RELAXATION``, physics.md 6.7): the insert contacts' ignored initial
-        overlap is reduced by ``interference`` [m] over ``ramp_steps`` (the fit is pressed in:
-        the spec's radial interference, not the mesh's overlap, which the facets of the
+        ``*CONTROL_DYNAMIC_RELAXATION``, docs/physics.md section 6.7): the insert contacts' ignored
+        initial overlap is reduced by ``interference`` [m] over ``ramp_steps`` (the fit is pressed
+        in: the spec's radial interference, not the mesh's overlap, which the facets of the
         polygonal sections enlarge by (R_barrel - R_insert)(1 - cos(pi / n))), then
         ``settle_steps`` more; velocities are scaled by ``factor`` (DRFCTR) each step, the pivot
         is held, and afterwards velocities are zeroed and the clock reset: the pre-stressed
@@ -741,7 +760,10 @@ class CoupledSolver:
         rows = np.zeros((4096, len(HISTORY_COLUMNS)))
         n_rows, contact_began, last_contact, peak, smooth = 0, -1.0, -1.0, -1.0, 0.0
         peak_points = self.points.copy()
+        frames = (FrameRecorder(c.end_time / max(c.frame_count, 1)), FrameRecorder(np.inf))
+        # the ball's recorder says when; the bat's keeps a frame each time the ball's does
         start = time.perf_counter()
+        self.record_frames(frames)
         while self.time < c.end_time:
             if n_rows == len(rows):
                 rows = np.concatenate((rows, np.zeros_like(rows)))
@@ -751,6 +773,8 @@ class CoupledSolver:
             if touching:
                 contact_began = self.time if contact_began < 0 else contact_began
                 last_contact = self.time
+            if frames[0].due(self.time):
+                self.record_frames(frames)
             smooth += min(1.0, self.dt / PEAK_SMOOTHING) * (force - smooth)
             if smooth > peak:
                 peak = smooth
@@ -763,6 +787,45 @@ class CoupledSolver:
                 break
         if contact_began < 0:
             raise SimulationError(f"the ball never reached the bat by {c.end_time * 1e3:.2f} ms")
+        self.record_frames(frames, last=True)
+        (frame_times, ball_frames), (_, bat_frames) = (f.stacked() for f in frames)
         return CoupledResult(rows[:n_rows].copy(), peak_points - self.model.points, self.step,
                              time.perf_counter() - start, dict(self.phase_seconds),
-                             self.pivot_inertia, float(self.model.ball.mass.sum()))  # fmt: skip
+                             self.pivot_inertia, float(self.model.ball.mass.sum()),
+                             frame_times=frame_times, ball_frames=ball_frames,
+                             bat_frames=bat_frames)  # fmt: skip
+
+    def record_frames(self, frames: tuple[FrameRecorder, FrameRecorder], *,
+                      last: bool = False) -> None:  # fmt: skip
+        """Keep the ball's and the bat's fields now if a frame is due (``frames[0]`` says), or
+        it is the ``last``."""
+        ball, bat = frames
+        if last:
+            ball.add(self.time, self.ball_frame())
+        elif not ball.record(self.time, self.ball_frame):
+            return
+        bat.add(self.time, self.bat_frame())
+
+    def ball_frame(self) -> Frame:
+        """The ball's fields now (:func:`batball.solvers.frames.ball_frame`)."""
+        m, state, n_bat = self.model, self.ball_state, self.model.n_bat
+        if m.ball.foam is not None:
+            stress = foam_cell_stress(state.foam_history)
+        else:
+            stress = hex_cell_stress(state.history, m.ball.cells.shape[0])
+        volume = state.cell_volume if self.step else m.ball.volume0
+        return ball_frame(self.ball_points - m.points[n_bat:], self.ball_velocity,
+                          self.contact_forces[n_bat:], self.ball_surface_area, stress, volume,
+                          m.ball.volume0)  # fmt: skip
+
+    def bat_frame(self) -> Frame:
+        """The bat's fields now (:func:`batball.solvers.frames.bat_frame`)."""
+        m, n_bat = self.model, self.model.n_bat
+        von_mises = None
+        if isinstance(self.shell_state, ShellForceState):
+            if not hasattr(self, "_ply_thickness"):  # (n_cells, n_layers), made at the first frame
+                section = m.bat.section
+                self._ply_thickness = section.layer_thickness[section.cell_laminate]
+            von_mises = ply_von_mises(self.shell_state, self._ply_thickness)
+        return bat_frame(self.bat_points - m.points[:n_bat], self.bat_velocity,
+                         self.contact_forces[:n_bat], von_mises)  # fmt: skip

@@ -29,6 +29,14 @@ from batball.materials.foam import FoamTable
 from batball.mesh import Mesh
 from batball.solvers import explicit_kernels as kern
 from batball.solvers.explicit_kernels import lumped_masses, slot_node_ranges
+from batball.solvers.frames import (
+    Frame,
+    FrameRecorder,
+    ball_frame,
+    foam_cell_stress,
+    hex_cell_stress,
+    surface_node_areas,
+)
 from batball.units import IN
 
 
@@ -73,7 +81,8 @@ class ExplicitControls:
         hourglass, bulk_viscosity: element controls.
         separation_time: stop once every contact force has been zero this long after contact
             began [s]; None runs to ``end_time``.
-        frame_count: about how many displacement frames to keep for ParaView.
+        frame_count: about how many field frames to keep for ParaView
+            (:mod:`batball.solvers.frames`).
         max_energy_error: stop if the energy balance error exceeds this fraction of the initial
             kinetic energy (a run-away).
         min_step_ratio: stop if the step falls below this fraction of the first step.
@@ -194,7 +203,7 @@ class State:
 
 @dataclass(frozen=True)
 class ExplicitResult:
-    """Histories (one row per step) and displacement frames of a run.
+    """Histories (one row per step) and field frames of a run.
 
     Attributes:
         time: (n_steps,) [s].
@@ -208,6 +217,9 @@ class ExplicitResult:
         frame_times: (n_frames,) [s]; frames: (n_frames, n_points, 3) displacements [m].
         mass: total mass [kg]; phase_seconds: wall time of the element kernel and of the rest of
             the cycle [s] (measured around the two compiled calls).
+        frame_data: every field of the frames by name, (n_frames, ...) float32, displacement,
+            velocity, contact force and pressure, stress and its invariants, volumetric strain
+            (:mod:`batball.solvers.frames`; ``frames`` is its displacement).
     """
 
     time: np.ndarray
@@ -222,6 +234,13 @@ class ExplicitResult:
     n_steps: int
     wall_seconds: float
     phase_seconds: dict[str, float]
+    frame_data: Frame = field(default_factory=dict)
+
+    @property
+    def max_penetration(self) -> float:
+        """The deepest any node went into any target over the run [m] (the penalty's own
+        compliance; 0 without contact)."""
+        return float(self.penetration.max()) if self.penetration.size else 0.0
 
 
 ENERGY_COLUMNS = (
@@ -282,6 +301,7 @@ class _Workspace:
         self.energy_increments = np.zeros((n_slots, 3))
         self.contact_forces = np.zeros((mesh.n_points, 3))
         slot_nodes = slot_node_ranges(mesh.cells, n_slots)
+        self.surface_area = surface_node_areas(mesh.points, mesh.cells)  # frames' contact pressure
         self.reaction = np.zeros((len(model.contacts), 3))
         self.contacts = packed_contacts(model.contacts, self.reaction)
         contact_nodes, contact_slots = kern.contact_node_slots(self.contacts[0], slot_nodes)
@@ -307,28 +327,19 @@ def packed_contacts(contacts: tuple[RigidContact, ...], reaction: np.ndarray) ->
 
 
 class _Recorder:
-    """Per-step history rows in a growing table, and displacement frames at a fixed interval."""
+    """Per-step history rows in a growing table, and field frames at a fixed interval."""
 
     def __init__(self, n_contacts: int, width: int, frame_interval: float) -> None:
         self.table = np.zeros((4096, width))
         self.n_rows = 0
         self.n_contacts = n_contacts
-        self.frame_interval = frame_interval
-        self.next_frame = 0.0
-        self.frame_times: list[float] = []
-        self.frames: list[np.ndarray] = []
+        self.frames = FrameRecorder(frame_interval)
 
     def next_row(self) -> np.ndarray:
         """The row the next cycle writes (the table doubles when full)."""
         if self.n_rows == len(self.table):
             self.table = np.concatenate((self.table, np.zeros_like(self.table)))
         return self.table[self.n_rows]
-
-    def maybe_frame(self, t: float, displacement: Callable[[], np.ndarray]) -> None:
-        if t >= self.next_frame:
-            self.frame_times.append(t)
-            self.frames.append(displacement().astype(np.float32))
-            self.next_frame += self.frame_interval
 
     def arrays(self) -> dict[str, np.ndarray]:
         table = self.table[: self.n_rows]
@@ -468,24 +479,35 @@ class ExplicitSolver:
         rec = _Recorder(
             len(self.model.contacts), self.work.row_width, c.end_time / max(c.frame_count, 1)
         )
-        points0 = self.model.mesh.points
         start = time.perf_counter()
-        rec.maybe_frame(0.0, lambda: s.points - points0)
+        frames = rec.frames
+        frames.record(0.0, self.frame)
         while s.clock[kern.TIME] < c.end_time and not self.separated:
             self.cycle(rec.next_row())
             rec.n_rows += 1
             t = s.clock[kern.TIME]
-            if t >= rec.next_frame:
-                rec.maybe_frame(t, lambda: s.points - points0)
+            if frames.due(t):
+                frames.record(t, self.frame)
             if progress is not None and s.counters[kern.STEP] % 200 == 0:
                 progress(t)
-        rec.frame_times.append(s.time)
-        rec.frames.append((s.points - points0).astype(np.float32))
+        frames.add(s.time, self.frame())
         return self.result(rec, time.perf_counter() - start)
+
+    def frame(self) -> Frame:
+        """The fields of the current state (:func:`batball.solvers.frames.ball_frame`)."""
+        s, w, m = self.state, self.work, self.model
+        if m.foam is not None:
+            stress = foam_cell_stress(s.foam_history)
+        else:
+            stress = hex_cell_stress(s.history, m.mesh.n_cells)
+        volume = w.cell_volume if s.step else w.volume0  # no cycle yet: the undeformed cells
+        return ball_frame(s.points - m.mesh.points, s.velocities, w.contact_forces,
+                          w.surface_area, stress, volume, w.volume0)  # fmt: skip
 
     def result(self, rec: _Recorder, wall: float) -> ExplicitResult:
         """Package the recorded histories."""
         arrays = rec.arrays()
+        frame_times, frame_data = rec.frames.stacked()
         return ExplicitResult(
             time=arrays["time"],
             reaction=arrays["reaction"],
@@ -493,12 +515,13 @@ class ExplicitSolver:
             energies=arrays["energies"],
             contact_nodes=arrays["contact_nodes"],
             penetration=arrays["penetration"],
-            frame_times=np.array(rec.frame_times),
-            frames=np.stack(rec.frames),
+            frame_times=frame_times,
+            frames=frame_data["displacement"],
             mass=self.total_mass,
             n_steps=self.state.step,
             wall_seconds=wall,
             phase_seconds=dict(self.phase_seconds),
+            frame_data=frame_data,
         )
 
 
