@@ -58,8 +58,18 @@ def _length(value_m: float) -> str:
     return f"{value_m!r} m"
 
 
-def evaluate_design(job: DesignJob) -> dict[str, float]:
-    """The responses of one design (module docs; units in the names)."""
+def evaluate_design(job: DesignJob) -> dict[str, Any]:
+    """The responses of one design (module docs; units in the names), or ``{"error": why}``
+    when a test cannot measure it (a ball still on the bat at the end time, a solver that
+    stopped): the study records the design as failed and goes on."""
+    try:
+        return design_responses(job)
+    except SimulationError as exc:
+        return {"error": str(exc)}
+
+
+def design_responses(job: DesignJob) -> dict[str, float]:
+    """The responses of one design; a :class:`SimulationError` where a test fails."""
     from batball.lab.registry import LAB_TESTS
     from batball.specs import load_ball_spec
     from batball.specs.bat import bat_spec_from_dict
@@ -118,10 +128,12 @@ class Design:
     values: tuple[float, ...]
     responses: dict[str, float] = field(default_factory=dict)
     margins: dict[str, float] = field(default_factory=dict)
+    error: str = ""
 
     @property
     def feasible(self) -> bool:
-        return all(m >= 0.0 for m in self.margins.values())
+        """Evaluated, and every constraint's margin at least zero."""
+        return not self.error and all(m >= 0.0 for m in self.margins.values())
 
 
 @dataclass
@@ -195,16 +207,20 @@ class _Evaluator:
             self.finish(design, responses)
         return designs
 
-    def finish(self, design: Design, responses: dict[str, float]) -> None:
+    def finish(self, design: Design, responses: dict[str, Any]) -> None:
+        bad = [k for k, v in responses.items() if k != "error" and not math.isfinite(v)]
+        if "error" in responses or bad:
+            why = responses.get("error") or f"response {bad[0]} is not finite"
+            design.error = f"{why} ({self.describe(design)})"
+            self.designs.append(design)
+            if self.progress is not None:
+                self.progress(len(self.designs))
+            return
         for ball in self.study.balls:
             for speed in ball.speeds:
                 if self.study.needs_ball_cor:
                     bbcor = responses[ball.columns(speed)[1]]
                     responses[bpf_column(ball, speed)] = bbcor / self.cors[ball.name]
-        bad = [k for k, v in responses.items() if not math.isfinite(v)]
-        if bad:
-            raise SimulationError(f"design {design.id} ({self.describe(design)}): response "
-                                  f"{bad[0]} is not finite")  # fmt: skip
         design.responses = responses
         design.margins = {}
         for c in self.study.constraints:
@@ -221,7 +237,10 @@ class _Evaluator:
 
 def score(study: DesignStudy, design: Design) -> float:
     """The first objective's score (smaller is better) plus a penalty for each constraint's
-    violation relative to its limit; with no objective, the violation alone."""
+    violation relative to its limit; with no objective, the violation alone; a failed design
+    scores 1e30."""
+    if design.error:
+        return 1e30
     violation = 0.0
     for c in study.constraints:
         value = design.responses[c.response]
@@ -256,7 +275,7 @@ def influence(study: DesignStudy, designs: Sequence[Design]) -> dict[str, dict[s
     designs (a linear fit of the standardised response on the standardised parameters; its R²
     under ``"r2"``): the change of the response, in its standard deviations, per standard
     deviation of the parameter. Empty with fewer designs than parameters + 2."""
-    sample = [d for d in designs if d.stage == "sample"]
+    sample = [d for d in designs if d.stage == "sample" and not d.error]
     d = len(study.parameters)
     if len(sample) < d + 2:
         return {}
@@ -415,6 +434,7 @@ def rows(result: DesignResult) -> list[dict[str, Any]]:
         row.update(d.responses)
         row.update(d.margins)
         row["feasible"] = d.feasible
+        row["error"] = d.error
         row["pareto"] = d.stage != "confirm" and d.id in result.pareto
         row["rank"] = ranks.get(d.id) if d.stage != "confirm" else None
         out.append(row)
@@ -490,6 +510,8 @@ def summary_document(result: DesignResult, best: Sequence[Design]) -> dict[str, 
         "designs": {stage: sum(d.stage == stage for d in result.designs)
                     for stage in ("sample", "optimise", "confirm")},  # fmt: skip
         "feasible": sum(d.feasible for d in result.designs if d.stage != "confirm"),
+        "failed": [{"design": d.id, "stage": d.stage, "error": d.error}
+                   for d in result.designs if d.error],  # fmt: skip
         "best": [entry(d) for d in best],
         "pareto": sorted(result.pareto),
         "influence": result.influence,

@@ -159,3 +159,32 @@ def test_the_command_line_refuses_a_missing_study_in_one_line(
     assert err.startswith("batball: error: study") and err.count("\n") == 1
     with pytest.raises(SpecError):
         load_design_study(tmp_path / "none.toml")
+
+
+def test_a_design_no_test_can_measure_is_recorded_and_the_study_goes_on(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A design whose run fails (here: every end cap over 2 oz, as a ball still on the bat at
+    the end time would) is a row with its reason, never ranked, and the study finishes."""
+    import batball.design.run as design_run
+    from batball.errors import SimulationError
+    from batball.report.design_page import write_design_page
+
+    real = design_run.design_responses
+
+    def failing(job: design_run.DesignJob) -> dict[str, float]:
+        if float(job.bat["parts"][-1]["lumped_mass"].split()[0]) > 2.0:  # the end cap, oz
+            raise SimulationError("the ball is still touching the bat at the end time")
+        return real(job)
+
+    monkeypatch.setattr(design_run, "design_responses", failing)
+    doc = design_study_from_dict(study(objective=[{"minimize": "weight_oz"}]))
+    result = run_design_study(doc, out_dir=tmp_path / "out", runs_dir=tmp_path / "runs",
+                              workers=0)  # fmt: skip
+    failed = [d for d in result.designs if d.error]
+    assert failed and all(d.values[0] / OZ > 2.0 for d in failed)
+    assert all("still touching" in d.error and "endcap" in d.error for d in failed)
+    assert not any(d.error for d in result.ranking if d.feasible)
+    rows = design_run.load_rows(tmp_path / "out")
+    assert sum(bool(r["error"]) for r in rows) == len(failed)
+    assert write_design_page(tmp_path / "out").is_file()  # the page draws with failed rows
