@@ -74,6 +74,11 @@ def describe_design(s: dict[str, Any], page: Path) -> str:
             values = ", ".join(f"{r} {c['responses'][r]:.4g}" for r in shown)
             lines.append(f"     confirmed on {c['mesh']}: {values}, "
                          f"{'feasible' if c['feasible'] else 'NOT feasible'}")  # fmt: skip
+    offset = s.get("confirmation_offset") or {}
+    if offset:
+        lines.append("  the finer mesh minus the screening mesh (mean over the confirmed): "
+                     + ", ".join(f"{r} {offset[r]:+.3g}" for r in shown if r in offset)
+                     + ": read screening margins against it")  # fmt: skip
     if not s["best"]:
         lines.append("  no feasible design: widen the design space or relax a constraint")
     lines.append(f"page: {page.as_posix()}")

@@ -468,6 +468,19 @@ def write_outputs(result: DesignResult, base: BatSpec) -> None:
     write_json_atomic(out / "summary.json", summary_document(result, best))
 
 
+def confirmation_offset(result: DesignResult) -> dict[str, float]:
+    """Per response, the mean of (confirmed - screened) over the designs confirmed on the finer
+    mesh: how far the screening mesh is off, which a margin on the screening mesh must be read
+    against. Empty without confirmed designs."""
+    screened = {d.id: d for d in result.designs if d.stage != "confirm" and not d.error}
+    pairs = [(screened[d.id], d) for d in result.designs
+             if d.stage == "confirm" and not d.error and d.id in screened]  # fmt: skip
+    if not pairs:
+        return {}
+    return {r: float(np.mean([c.responses[r] - s.responses[r] for s, c in pairs]))
+            for r in pairs[0][1].responses}  # fmt: skip
+
+
 def summary_document(result: DesignResult, best: Sequence[Design]) -> dict[str, Any]:
     """summary.json of a study."""
     study = result.study
@@ -515,6 +528,7 @@ def summary_document(result: DesignResult, best: Sequence[Design]) -> dict[str, 
         "best": [entry(d) for d in best],
         "pareto": sorted(result.pareto),
         "influence": result.influence,
+        "confirmation_offset": confirmation_offset(result),
         "wall_seconds": result.seconds,
         "stage_seconds": result.stage_seconds,
     }

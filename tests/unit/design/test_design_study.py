@@ -188,3 +188,22 @@ def test_a_design_no_test_can_measure_is_recorded_and_the_study_goes_on(
     rows = design_run.load_rows(tmp_path / "out")
     assert sum(bool(r["error"]) for r in rows) == len(failed)
     assert write_design_page(tmp_path / "out").is_file()  # the page draws with failed rows
+
+
+def test_the_confirmation_offset_is_confirmed_minus_screened(tmp_path: Path) -> None:
+    """The best design rerun on a finer bat mesh: the offset the summary reports is exactly its
+    confirmed weight minus its screened weight (one confirmed design: the mean of one)."""
+    import json
+
+    doc = design_study_from_dict(study(
+        objective=[{"minimize": "weight_oz"}],
+        confirm={"top": 1, "circumferential": 16, "axial_size": "0.5 in", "ball_divisions": 2},
+    ))  # fmt: skip
+    result = run_design_study(doc, out_dir=tmp_path / "out", runs_dir=tmp_path / "runs",
+                              workers=0)  # fmt: skip
+    (confirmed,) = [d for d in result.designs if d.stage == "confirm"]
+    screened = next(d for d in result.designs if d.id == confirmed.id and d.stage == "sample")
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text(encoding="utf-8"))
+    expected = confirmed.responses["weight_oz"] - screened.responses["weight_oz"]
+    assert expected != 0.0  # the meshes differ
+    assert summary["confirmation_offset"]["weight_oz"] == pytest.approx(expected, rel=1e-12)
