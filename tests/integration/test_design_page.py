@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import json
 import re
-import shutil
-import subprocess
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -95,24 +94,9 @@ def test_best_table_holds_each_best_design_and_its_margin(study_dir: Path) -> No
     assert "oz·in²" in table and "mph" in table
 
 
-def chromium() -> str:
-    for name in ("chromium", "chromium-browser"):
-        found = shutil.which(name)
-        if found:
-            return found
-    pytest.skip("chromium is not installed (apt-get install -y chromium; .ci/run does it)")
-
-
-def run_chromium(*args: str) -> str:
-    """Headless Chromium (no sandbox: CI runs as root); returns stdout."""
-    command = [chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-               "--virtual-time-budget=10000", *args]  # fmt: skip
-    done = subprocess.run(command, capture_output=True, text=True, timeout=120, check=False)
-    assert done.returncode == 0, done.stderr[-2000:]
-    return done.stdout
-
-
-def test_page_renders_in_headless_chromium(study_dir: Path) -> None:
+def test_page_renders_in_headless_chromium(
+    study_dir: Path, run_chromium: Callable[..., str]
+) -> None:
     page = (study_dir / "index.html").resolve().as_uri()
     dom = run_chromium("--dump-dom", page)
     body = re.search(r"<body([^>]*)>", dom)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import re
 import shutil
-import subprocess
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -100,24 +100,9 @@ def test_report_files_and_measured_values(report: Path) -> None:
     assert {"figure15_type1.png", "energies_ccor.png", "bat_modes.png"} <= set(figures)
 
 
-def chromium() -> str:
-    for name in ("chromium", "chromium-browser"):
-        found = shutil.which(name)
-        if found:
-            return found
-    pytest.skip("chromium is not installed (apt-get install -y chromium; .ci/run does it)")
-
-
-def run_chromium(*args: str) -> str:
-    """Headless Chromium (no sandbox: CI runs as root); returns stdout."""
-    command = [chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
-               "--virtual-time-budget=10000", *args]  # fmt: skip
-    done = subprocess.run(command, capture_output=True, text=True, timeout=120, check=False)
-    assert done.returncode == 0, done.stderr[-2000:]
-    return done.stdout
-
-
-def test_report_renders_in_headless_chromium(report: Path) -> None:
+def test_report_renders_in_headless_chromium(
+    report: Path, run_chromium: Callable[..., str]
+) -> None:
     page = (report / "report" / "index.html").resolve().as_uri()
     dom = run_chromium("--dump-dom", page)
     body = re.search(r"<body([^>]*)>", dom)
