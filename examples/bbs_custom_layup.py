@@ -21,7 +21,7 @@ import batball
 from batball.specs.bat import bat_spec_to_toml_dict
 
 tiny = bool(os.environ.get("BATBALL_EXAMPLE_TINY"))
-mesh = (dict(divisions=3, circumferential=8, axial_size="1 in") if tiny
+mesh = (dict(divisions=2, circumferential=8, axial_size="1 in") if tiny
         else dict(divisions=8, circumferential=32, axial_size="0.25 in"))
 
 base = batball.load_bat("default")

@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt
 
 import batball
 
-divisions = 3 if os.environ.get("BATBALL_EXAMPLE_TINY") else 8  # 12 is the seed's full mesh
+divisions = 2 if os.environ.get("BATBALL_EXAMPLE_TINY") else 8  # 12 is the seed's full mesh
 
 fig, ax = plt.subplots(figsize=(7, 4))
 for ball in ("type1", "type2"):
