@@ -66,7 +66,7 @@ from batball.design.rules import RULES, BallChoice, Constraint, Rule, bpf_column
 from batball.errors import SpecError
 from batball.specs.bat import BatSpec, parse_angle
 from batball.specs.document import check_name
-from batball.units import MPH, parse_quantity
+from batball.units import IN, MPH, OZ, parse_quantity
 
 STUDY_KEYS = ("name", "description", "bat", "mesh", "confirm", "sampling", "optimise",
               "parameter", "ball", "constraint", "objective", "modal", "barrel")  # fmt: skip
@@ -75,6 +75,9 @@ STUDY_KEYS = ("name", "description", "bat", "mesh", "confirm", "sampling", "opti
 INSERT_INTERFERENCE = "insert_interference"
 _SET_TEXT = ("lumped_mass:<part>, thickness:<ply label>[@<part>+...], "
              "angle:<ply label>[@<part>+...] or insert_interference")  # fmt: skip
+
+#: SI per unit of the units parameters are written in.
+UNIT_FACTORS = {"oz": OZ, "in": IN, "deg": math.pi / 180.0}
 
 #: The unit each kind of parameter is written and reported in, and its dimension.
 PARAMETER_UNITS = {
@@ -110,8 +113,7 @@ class DesignParameter:
 
     def to_unit(self, value: float) -> float:
         """``value`` (SI) in :attr:`unit`."""
-        factor = {"oz": 0.028349523125, "in": 0.0254, "deg": math.pi / 180.0}[self.unit]
-        return value / factor
+        return value / UNIT_FACTORS[self.unit]
 
     def value_at(self, u: float) -> float:
         """The value at ``u`` in [0, 1] of the range (SI)."""
@@ -375,7 +377,7 @@ def _parameter(item: Mapping[str, Any], field: str, spec: BatSpec) -> DesignPara
 def _text(value: float, unit: str) -> str:
     if math.isinf(value):
         return "no limit"
-    factor = {"oz": 0.028349523125, "in": 0.0254, "deg": math.pi / 180.0}[unit]
+    factor = UNIT_FACTORS[unit]
     return f"{value / factor:g} {unit}"
 
 
