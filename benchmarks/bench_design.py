@@ -51,6 +51,7 @@ def main() -> None:
         write_design_page(out)
         wall = time.perf_counter() - start
         summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    screened = {d.id: d for d in result.designs if d.stage != "confirm"}
     print(json.dumps({
         "study": study.name, "cpu": cpu_model(), "cores": os.cpu_count(),
         "vector_width_bits": 512 if WIDE_VECTOR_FEATURES else 256, "designs": summary["designs"],
@@ -60,6 +61,11 @@ def main() -> None:
                   "screened": {k: b["responses"][k] for k in ("bbs_type1_110mph",
                                                               "moi_pivot_oz_in2", "weight_oz")},
                   "confirmed": b.get("confirmed")} for b in summary["best"]],
+        "best_confirmed": summary["best_confirmed"],
+        "confirmation_offset": summary["confirmation_offset"],
+        "confirmed": [{"design": d.id, "round": d.round, "feasible": d.feasible,
+                       "screened": screened[d.id].responses, "confirmed": d.responses}
+                      for d in result.designs if d.stage == "confirm"],
     }, indent=2))  # fmt: skip
     print(f"{len(result.designs)} evaluations in {wall:.0f} s")
 

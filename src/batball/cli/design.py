@@ -79,6 +79,15 @@ def describe_design(s: dict[str, Any], page: Path) -> str:
         lines.append("  the finer mesh minus the screening mesh (mean over the confirmed): "
                      + ", ".join(f"{r} {offset[r]:+.3g}" for r in shown if r in offset)
                      + ": read screening margins against it")  # fmt: skip
+    if s.get("confirm_mesh") and s["designs"].get("confirm"):
+        sure = s.get("best_confirmed")
+        lines.append(f"  best design feasible on the confirmation mesh: {sure}" if sure else
+                     f"  no design was feasible on the confirmation mesh ({s['confirm_mesh']}): "
+                     "more confirmation rounds ([confirm] rounds) or a wider design space")
+    for row in s.get("league_balls", []):
+        lines.append(f"  league ball {row['ball']} from {row['prior']} on "
+                     f"{row['ball_divisions']} divisions: COR {row['cor']:.3f}, compression "
+                     f"{row['compression_lbf']:.0f} lbf")  # fmt: skip
     if not s["best"]:
         lines.append("  no feasible design: widen the design space or relax a constraint")
     lines.append(f"page: {page.as_posix()}")

@@ -36,11 +36,28 @@ class BallChoice:
     name: str
     source: str
     speeds: tuple[float, ...]
+    #: A league ball's stamp, (COR at 60 mph, compression at 0.25 in [N]); None for a spec.
+    stamp: tuple[float, float] | None = None
+    #: A league ball's priors as given (embedded names or TOML paths) and their ball names.
+    priors: tuple[str, ...] = ()
+    prior_names: tuple[str, ...] = ()
+    #: A league ball's fit budget: Latin-hypercube points, then least-squares evaluations.
+    fit_points: int = 4
+    fit_evaluations: int = 12
 
     def columns(self, speed: float) -> tuple[str, str, str]:
-        """The BBS, BBCOR and e_A columns of this ball at ``speed``."""
+        """The BBS, BBCOR and e_A columns of this ball at ``speed`` (a league ball's: the
+        largest over its priors)."""
         tag = f"{self.name}_{speed / MPH:g}mph".replace(".", "p")
         return f"bbs_{tag}", f"bbcor_{tag}", f"e_a_{tag}"
+
+    def spread_columns(self, speed: float) -> tuple[str, ...]:
+        """A league ball's BBS column per prior, then the spread (largest minus smallest) over
+        them; none for a ball given by its spec."""
+        if self.stamp is None:
+            return ()
+        bbs = self.columns(speed)[0]
+        return (*(f"{bbs}_{prior}" for prior in self.prior_names), f"{bbs}_spread")
 
 
 @dataclass(frozen=True)

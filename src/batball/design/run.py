@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from batball.design.rules import BALL_COR_SPEED, bpf_column
+from batball.design.rules import BALL_COR_SPEED, BallChoice, bpf_column
 from batball.design.study import DesignParameter, DesignStudy, Mesh, response_unit
 from batball.errors import SimulationError
 from batball.specs.bat import BatSpec
@@ -47,7 +47,9 @@ class DesignJob:
 
     bat: dict[str, Any]
     mesh: Mesh
-    balls: tuple[tuple[str, str, tuple[float, ...]], ...]  # (name, source, speeds m/s)
+    #: (name, sources, speeds m/s, prior names): one source for a ball given by its spec; a
+    #: league ball's one per prior, named by ``prior names``.
+    balls: tuple[tuple[str, tuple[str, ...], tuple[float, ...], tuple[str, ...]], ...]
     modal: bool
     barrel: bool
     runs_dir: Path
@@ -96,14 +98,22 @@ def design_responses(job: DesignJob) -> dict[str, float]:
     bbs = LAB_TESTS["bbs"]
     from batball.design.rules import BallChoice
 
-    for name, source, speeds in job.balls:
-        ball = load_ball_spec(source)
+    for name, sources, speeds, priors in job.balls:
+        balls = [load_ball_spec(source) for source in sources]
+        choice = BallChoice(name, sources[0], speeds, stamp=(0.0, 0.0) if priors else None,
+                            prior_names=priors)  # fmt: skip
         for speed in speeds:
             setup = bbs.setup(**mesh, divisions=job.mesh.ball_divisions, speed=f"{speed!r} m/s")
-            s, _ = bbs.execute({"bat": spec, "ball": ball}, setup, **store)
-            bbs_col, bbcor_col, ea_col = BallChoice(name, source, speeds).columns(speed)
-            out |= {bbs_col: s["bbs_mph"], bbcor_col: s["bbcor"],
-                    ea_col: s["collision_efficiency"]}  # fmt: skip
+            runs = [bbs.execute({"bat": spec, "ball": ball}, setup, **store)[0] for ball in balls]
+            bbs_col, bbcor_col, ea_col = choice.columns(speed)
+            # a league ball: each prior's BBS, and the largest of each response over them
+            out |= {bbs_col: max(s["bbs_mph"] for s in runs),
+                    bbcor_col: max(s["bbcor"] for s in runs),
+                    ea_col: max(s["collision_efficiency"] for s in runs)}  # fmt: skip
+            if priors:
+                *each, spread = choice.spread_columns(speed)
+                out |= {col: s["bbs_mph"] for col, s in zip(each, runs, strict=True)}
+                out[spread] = max(s["bbs_mph"] for s in runs) - min(s["bbs_mph"] for s in runs)
     return {k: float(v) for k, v in out.items()}
 
 
@@ -129,6 +139,8 @@ class Design:
     responses: dict[str, float] = field(default_factory=dict)
     margins: dict[str, float] = field(default_factory=dict)
     error: str = ""
+    #: The confirmation round that reran it (0: a screening design).
+    round: int = 0
 
     @property
     def feasible(self) -> bool:
@@ -149,6 +161,8 @@ class DesignResult:
     out_dir: Path
     seconds: float
     stage_seconds: dict[str, float]
+    #: The league balls fitted to their stamps (one row per ball mesh and prior).
+    league_balls: list[dict[str, Any]] = field(default_factory=list)
 
 
 def design_id(values: Sequence[float]) -> str:
@@ -185,15 +199,34 @@ class _Evaluator:
 
     def __init__(self, study: DesignStudy, base: BatSpec, runs_dir: Path, reuse: bool,
                  executor: Executor, cors: dict[str, float],
-                 progress: Callable[[int], None] | None) -> None:  # fmt: skip
+                 progress: Callable[[int], None] | None, workers: int | None = 0,
+                 log: Callable[[str], None] | None = None) -> None:  # fmt: skip
         self.study, self.base, self.runs_dir, self.reuse = study, base, runs_dir, reuse
         self.executor, self.cors, self.progress = executor, cors, progress
+        self.workers, self.log = workers, log or (lambda _text: None)
         self.designs: list[Design] = []
+        #: The league balls fitted per ball mesh: {divisions: {ball name: [LeagueBall]}}.
+        self.league: dict[int, dict[str, list[Any]]] = {}
+
+    def league_balls(self, divisions: int) -> dict[str, list[Any]]:
+        """Each league ball of the study fitted to its stamp on ``divisions`` (once per mesh;
+        stored in the runs folder, so a study started again resumes the fits)."""
+        if divisions not in self.league:
+            self.league[divisions] = {
+                b.name: fit_study_league_ball(b, divisions, self.runs_dir, self.workers, self.log)
+                for b in self.study.balls if b.stamp is not None
+            }  # fmt: skip
+        return self.league[divisions]
 
     def job(self, design: Design) -> DesignJob:
         study = self.study
         spec = design_spec(self.base, study.parameters, design.values, f"{study.name}-{design.id}")
-        balls = tuple((b.name, b.source, b.speeds) for b in study.balls)
+        league = self.league_balls(design.mesh.ball_divisions)
+        balls = tuple(
+            (b.name, (b.source,), b.speeds, ()) if b.stamp is None else
+            (b.name, tuple(str(lb.spec_file) for lb in league[b.name]), b.speeds, b.prior_names)
+            for b in study.balls
+        )  # fmt: skip
         from batball.specs.bat import bat_spec_to_toml_dict
 
         return DesignJob(bat_spec_to_toml_dict(spec), design.mesh, balls, study.needs_modal,
@@ -222,10 +255,7 @@ class _Evaluator:
                     bbcor = responses[ball.columns(speed)[1]]
                     responses[bpf_column(ball, speed)] = bbcor / self.cors[ball.name]
         design.responses = responses
-        design.margins = {}
-        for c in self.study.constraints:
-            key = c.label if not c.rule else f"{c.label}__{c.response}"
-            design.margins[key] = c.margin(responses[c.response])
+        design.margins = constraint_margins(self.study, responses)
         self.designs.append(design)
         if self.progress is not None:
             self.progress(len(self.designs))
@@ -233,6 +263,34 @@ class _Evaluator:
     def describe(self, design: Design) -> str:
         return ", ".join(f"{p.name} {p.to_unit(v):.4g} {p.unit}"
                          for p, v in zip(self.study.parameters, design.values, strict=True))
+
+
+def fit_study_league_ball(
+    ball: BallChoice, divisions: int, runs_dir: Path, workers: int | None,
+    log: Callable[[str], None],
+) -> list[Any]:  # fmt: skip
+    """A study's league ball (a ``[[ball]]`` with a ``stamp``) fitted on ``divisions``, one
+    :class:`batball.design.league.LeagueBall` per prior; a fit that misses the stamp by more
+    than its goal (COR 1 %, compression 5 %) is said in the log and kept in summary.json."""
+    from batball.calibrate.optimise import OptimiserOptions
+    from batball.design.league import fit_league_ball, league_targets, load_priors
+
+    assert ball.stamp is not None
+    budget = OptimiserOptions(global_points=ball.fit_points, coarse_divisions=divisions,
+                              coarse_evaluations=ball.fit_evaluations, fine_divisions=None)
+    targets = league_targets(*ball.stamp)
+    log(f"fitting league ball {ball.name} to its stamp on the {divisions}-division ball, "
+        f"priors {', '.join(ball.prior_names)}")
+    out = []
+    for prior in load_priors(ball.priors):
+        league = fit_league_ball(f"{ball.name}-d{divisions}", prior, targets, budget=budget,
+                                 runs_dir=runs_dir / "league", workers=workers)  # fmt: skip
+        missed = {q: r for q, r in league.residuals.items() if abs(r) > 1.0}
+        if missed:
+            log(f"  league ball {league.ball.name} misses its stamp: "
+                + ", ".join(f"{q} {r:+.2f} goals" for q, r in missed.items()))
+        out.append(league)
+    return out
 
 
 def score(study: DesignStudy, design: Design) -> float:
@@ -326,14 +384,20 @@ def run_design_study(
     design_spec(base, study.parameters, [p.lower for p in study.parameters], "check")
     stage_seconds: dict[str, float] = {}
     t0 = time.perf_counter()
-    cors = ({b.name: ball_cor(b.source, study.mesh.ball_divisions, runs_dir, reuse)
+    # the BPF's denominator: a ball's COR at 60 mph on the screening mesh, a league ball's stamp
+    cors = ({b.name: b.stamp[0] if b.stamp is not None else
+             ball_cor(b.source, study.mesh.ball_divisions, runs_dir, reuse)
              for b in study.balls} if study.needs_ball_cor else {})  # fmt: skip
     stage_seconds["ball_cor"] = time.perf_counter() - t0
     bar = _bar(progress, study.designs, "designs")
     workers = default_workers() if workers is None else workers
     with open_executor(workers=workers, scheduler=scheduler) as executor:
-        ev = _Evaluator(study, base, runs_dir, reuse, executor, cors,
-                        None if bar is None else lambda n: _update(bar, n))  # fmt: skip
+        tick = None if bar is None else lambda n: _update(bar, n)
+        ev = _Evaluator(study, base, runs_dir, reuse, executor, cors, tick, workers, say)
+        t0 = time.perf_counter()
+        ev.league_balls(study.mesh.ball_divisions)
+        if ev.league[study.mesh.ball_divisions]:
+            stage_seconds["league_balls"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         unit = sample_unit(study)
         points = [[p.value_at(u) for p, u in zip(study.parameters, row, strict=True)]
@@ -353,18 +417,92 @@ def run_design_study(
     confirmed: list[Design] = []
     if study.confirm is not None and study.confirm_top:
         t0 = time.perf_counter()
-        top = [d for d in ranking if d.feasible][: study.confirm_top]
-        say(f"confirming the best {len(top)} on {study.confirm.label}")
         with open_executor(workers=0) as inline:  # full-size runs use every core each
             ev.executor = inline
-            confirmed = ev.evaluate([d.values for d in top], "confirm", study.confirm)
+            for round_ in range(1, study.confirm_rounds + 1):
+                top = confirmation_candidates(study, ranking, confirmed)
+                if not top:
+                    break
+                say(f"confirming {len(top)} designs on {study.confirm.label} (round {round_})")
+                new = ev.evaluate([d.values for d in top], "confirm", study.confirm)
+                for d in new:
+                    d.round = round_
+                confirmed += new
         stage_seconds["confirm"] = time.perf_counter() - t0
     front = pareto_front(study, screened)
     result = DesignResult(study, screened + confirmed, ranking, front,
                           influence(study, screened), cors, Path(out_dir),
-                          time.perf_counter() - start, stage_seconds)  # fmt: skip
+                          time.perf_counter() - start, stage_seconds,
+                          league_rows(ev.league))  # fmt: skip
     write_outputs(result, base)
     return result
+
+
+def constraint_margins(study: DesignStudy, responses: dict[str, float]) -> dict[str, float]:
+    """Each constraint's margin (a rule's named with its response), in the response's unit."""
+    margins: dict[str, float] = {}
+    for c in study.constraints:
+        key = c.label if not c.rule else f"{c.label}__{c.response}"
+        value = c.margin(responses[c.response])
+        margins[key] = min(value, margins.get(key, value))
+    return margins
+
+
+def confirmation_candidates(study: DesignStudy, ranking: Sequence[Design],
+                            confirmed: Sequence[Design]) -> list[Design]:  # fmt: skip
+    """The designs the next confirmation round reruns: in the first, the best ``confirm_top``
+    feasible ones on the screening mesh. In a later one, the screening mesh's values are first
+    corrected by what the rounds before measured: each constraint's margin is taken at its worst
+    over the offsets (confirmed minus screened) of the designs confirmed so far, the objective
+    with their mean; the best ``confirm_top`` designs not yet confirmed that are feasible so
+    corrected are rerun (none: the rounds stop)."""
+    done = {d.id for d in confirmed}
+    if not confirmed:
+        return [d for d in ranking if d.feasible][: study.confirm_top]
+    screened = {d.id: d for d in ranking}
+    offsets = [{r: c.responses[r] - screened[c.id].responses[r] for r in c.responses}
+               for c in confirmed if not c.error and c.id in screened]  # fmt: skip
+    if not offsets:
+        return []
+    candidates = []
+    for d in ranking:
+        if d.error or d.id in done:
+            continue
+        shadow = Design(d.id, d.stage, d.mesh, d.values,
+                        {r: v + float(np.mean([o[r] for o in offsets])) if r in offsets[0] else v
+                         for r, v in d.responses.items()})  # fmt: skip
+        worst = [constraint_margins(study, {r: v + o.get(r, 0.0) for r, v in d.responses.items()})
+                 for o in offsets]  # fmt: skip
+        shadow.margins = {key: min(m[key] for m in worst) for key in worst[0]}
+        if shadow.feasible:
+            candidates.append((score(study, shadow), d))
+    candidates.sort(key=lambda item: item[0])
+    return [d for _, d in candidates[: study.confirm_top]]
+
+
+def best_designs(result: DesignResult) -> list[Design]:
+    """The best designs, as best/ and summary.json list them: those feasible on the
+    confirmation mesh first (ranked on it), then the screening mesh's feasible designs that were
+    not rerun; a design the confirmation mesh found infeasible is left out."""
+    study = result.study
+    confirmed = {d.id: d for d in result.designs if d.stage == "confirm" and not d.error}
+    screened = {d.id: d for d in result.ranking}
+    sure = sorted((c for c in confirmed.values() if c.feasible), key=lambda c: score(study, c))
+    rest = [d for d in result.ranking if d.feasible and d.id not in confirmed]
+    return [screened[c.id] for c in sure if c.id in screened] + rest
+
+
+def league_rows(league: dict[int, dict[str, list[Any]]]) -> list[dict[str, Any]]:
+    """summary.json's rows of the league balls: each mesh's fit per prior, what it reached."""
+    from batball.design.league import LEAGUE_FREE
+    from batball.units import LBF
+
+    return [{"ball": name, "prior": lb.prior, "ball_divisions": divisions,
+             "spec": str(lb.spec_file), "cor": lb.cor, "compression_lbf": lb.compression / LBF,
+             "residuals_in_goals": dict(lb.residuals),
+             "fitted_pa": {k: lb.ball.material.values[k] for k in LEAGUE_FREE}, "runs": lb.runs}
+            for divisions, balls in sorted(league.items())
+            for name, fits in balls.items() for lb in fits]  # fmt: skip
 
 
 def _unique(designs: Sequence[Design]) -> list[Design]:
@@ -437,6 +575,7 @@ def rows(result: DesignResult) -> list[dict[str, Any]]:
         row["error"] = d.error
         row["pareto"] = d.stage != "confirm" and d.id in result.pareto
         row["rank"] = ranks.get(d.id) if d.stage != "confirm" else None
+        row["round"] = d.round if d.stage == "confirm" else None
         out.append(row)
     return out
 
@@ -457,7 +596,7 @@ def write_outputs(result: DesignResult, base: BatSpec) -> None:
     writer.writerows({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in r.items()}
                      for r in table)  # fmt: skip
     write_text_atomic(out / "designs.csv", buffer.getvalue())
-    best = [d for d in result.ranking if d.feasible][: max(study.confirm_top, 3)]
+    best = best_designs(result)[: max(study.confirm_top * study.confirm_rounds, 3)]
     for rank, d in enumerate(best, start=1):
         spec = design_spec(base, study.parameters, d.values, f"{study.name}-{d.id}")
         header = (f"# Design {d.id} of batball design study {study.name!r}, rank {rank}: "
@@ -499,7 +638,8 @@ def summary_document(result: DesignResult, best: Sequence[Design]) -> dict[str, 
             item["confirmed"] = {"mesh": confirmed[d.id].mesh.label,
                                  "responses": confirmed[d.id].responses,
                                  "margins": confirmed[d.id].margins,
-                                 "feasible": confirmed[d.id].feasible}  # fmt: skip
+                                 "feasible": confirmed[d.id].feasible,
+                                 "round": confirmed[d.id].round}  # fmt: skip
         return item
 
     return {
@@ -529,6 +669,10 @@ def summary_document(result: DesignResult, best: Sequence[Design]) -> dict[str, 
         "pareto": sorted(result.pareto),
         "influence": result.influence,
         "confirmation_offset": confirmation_offset(result),
+        "confirm_rounds": study.confirm_rounds,
+        "best_confirmed": next((d.id for d in best if d.id in confirmed
+                                and confirmed[d.id].feasible), None),  # fmt: skip
+        "league_balls": result.league_balls,
         "wall_seconds": result.seconds,
         "stage_seconds": result.stage_seconds,
     }

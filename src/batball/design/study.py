@@ -178,6 +178,7 @@ class DesignStudy:
     mesh: Mesh
     confirm: Mesh | None = None
     confirm_top: int = 0
+    confirm_rounds: int = 1
     method: str = "sobol"
     designs: int = 16
     seed: int = 1
@@ -197,6 +198,7 @@ class DesignStudy:
         for ball in self.balls:
             for speed in ball.speeds:
                 out += list(ball.columns(speed))
+                out += list(ball.spread_columns(speed))
                 if self.needs_ball_cor:
                     out.append(bpf_column(ball, speed))
         return tuple(out)
@@ -259,10 +261,11 @@ def design_study_from_dict(document: Mapping[str, Any], *, base: Path = Path("."
                   for i, item in enumerate(_tables(document, "ball")))  # fmt: skip
     mesh = _mesh(document.get("mesh", {}), "mesh", default=(16, 0.5 * 0.0254, 4))
     confirm_table = document.get("confirm")
-    confirm, top = None, 0
+    confirm, top, rounds = None, 0, 1
     if confirm_table is not None:
         confirm = _mesh(confirm_table, "confirm", default=(48, 0.1 * 0.0254, 12))
         top = _integer(confirm_table.get("top", 3), "confirm.top", 1, 20)
+        rounds = _integer(confirm_table.get("rounds", 1), "confirm.rounds", 1, 10)
     sampling = document.get("sampling", {})
     _known(sampling, "sampling", ("method", "designs", "seed"))
     method = sampling.get("method", "sobol")
@@ -284,7 +287,8 @@ def design_study_from_dict(document: Mapping[str, Any], *, base: Path = Path("."
     study = DesignStudy(
         name=name, description=str(document.get("description", "")), bat=str(bat),
         parameters=parameters, balls=balls, constraints=tuple(constraints),
-        objectives=objectives, mesh=mesh, confirm=confirm, confirm_top=top, method=method,
+        objectives=objectives, mesh=mesh, confirm=confirm, confirm_top=top, confirm_rounds=rounds,
+        method=method,
         designs=designs, seed=seed, optimise_evaluations=evaluations,
         modal=_flag(document, "modal"), barrel=_flag(document, "barrel"), rules=tuple(rules),
     )  # fmt: skip
@@ -384,17 +388,48 @@ def _text(value: float, unit: str) -> str:
 def _ball(item: Mapping[str, Any], field: str, base: Path) -> BallChoice:
     from batball.specs.ball import EMBEDDED_BALLS, EXAMPLE_BALLS, FITTED_BALLS, load_ball_spec
 
-    _known(item, field, ("name", "speeds"))
-    source = _spec_path(item.get("name"), base,
-                        embedded=EMBEDDED_BALLS + FITTED_BALLS + EXAMPLE_BALLS)  # fmt: skip
-    ball = load_ball_spec(source)
     speeds = item.get("speeds", ["110 mph"])
     if not isinstance(speeds, list) or not speeds:
         raise SpecError(f"{field}.speeds", speeds, "a list of speeds with units")
     values = tuple(parse_quantity(s, "velocity", field=f"{field}.speeds") for s in speeds)
     if any(not 10 * MPH <= v <= 200 * MPH for v in values):
         raise SpecError(f"{field}.speeds", speeds, "inbound speeds 10 to 200 mph")
+    if "stamp" in item:
+        return _league_ball(item, field, base, values)
+    _known(item, field, ("name", "speeds"))
+    source = _spec_path(item.get("name"), base,
+                        embedded=EMBEDDED_BALLS + FITTED_BALLS + EXAMPLE_BALLS)  # fmt: skip
+    ball = load_ball_spec(source)
     return BallChoice(check_name(f"{field}.name", ball.name), source, values)
+
+
+def _league_ball(item: Mapping[str, Any], field: str, base: Path,
+                 speeds: tuple[float, ...]) -> BallChoice:  # fmt: skip
+    """A ``[[ball]]`` given by its stamp: fitted per prior when the study runs
+    (:mod:`batball.design.league`)."""
+    from batball.design.league import load_priors, parse_stamp
+    from batball.specs.ball import EMBEDDED_BALLS, FITTED_BALLS
+
+    _known(item, field, ("name", "stamp", "priors", "speeds", "fit_points", "fit_evaluations"))
+    name = check_name(f"{field}.name", item.get("name"))
+    try:
+        stamp = parse_stamp(item["stamp"])
+    except SpecError as exc:
+        raise SpecError(f"{field}.stamp", exc.value, exc.allowed) from None
+    given = item.get("priors", ["type1", "type2"])
+    if not isinstance(given, list) or not all(isinstance(p, str) for p in given):
+        raise SpecError(f"{field}.priors", given, "a list of MAT_006 balls (type1, type2)")
+    sources = tuple(_spec_path(p, base, embedded=EMBEDDED_BALLS + FITTED_BALLS) for p in given)
+    try:
+        priors = load_priors(sources)
+    except SpecError as exc:
+        raise SpecError(f"{field}.priors", exc.value, exc.allowed) from None
+    return BallChoice(
+        name, "", speeds, stamp=stamp, priors=sources, prior_names=tuple(b.name for b in priors),
+        fit_points=_integer(item.get("fit_points", 4), f"{field}.fit_points", 0, 100),
+        fit_evaluations=_integer(item.get("fit_evaluations", 12), f"{field}.fit_evaluations",
+                                 1, 200),
+    )  # fmt: skip
 
 
 def _constraint(item: Mapping[str, Any], field: str,
@@ -468,7 +503,7 @@ def _objective(item: Mapping[str, Any], field: str) -> Objective:
 
 
 def _mesh(table: Any, field: str, default: tuple[int, float, int]) -> Mesh:
-    _known(table, field, ("circumferential", "axial_size", "ball_divisions", "top"))
+    _known(table, field, ("circumferential", "axial_size", "ball_divisions", "top", "rounds"))
     circumferential = _integer(table.get("circumferential", default[0]),
                                f"{field}.circumferential", 8, 256)  # fmt: skip
     axial = table.get("axial_size")

@@ -411,9 +411,10 @@ def best_section(study: StudyOutput) -> str:
         css = " class='confirmed'" if c.confirmed else ""
         head.append(f"<th{css}>{name}<br><small>{mesh}:<br>{escape(c.mesh)}</small></th>")
     note = (
-        "<p class='note'>The best feasible designs on the screening mesh, ranked by the first "
-        "objective; each links to its bat spec (<code>best/&lt;rank&gt;-&lt;design&gt;.toml"
-        "</code>). "
+        "<p class='note'>The best designs, ranked by the first objective: those feasible on "
+        "the confirmation mesh first, then those feasible on the screening mesh that were not "
+        "rerun (a design the confirmation mesh found infeasible is left out); each links to "
+        "its bat spec (<code>best/&lt;rank&gt;-&lt;design&gt;.toml</code>). "
     )
     if any(c.confirmed for c in columns):
         note += (

@@ -142,6 +142,13 @@ def test_the_asa_rule_is_98_mph_at_110_mph() -> None:
     ({"objective": [{"maximize": "bbs_type9_110mph"}]}, "objective"),
     ({"ball": [{"name": "nosuch"}]}, "ball"),
     ({"optimise": {"evaluations": 5}}, "optimise.evaluations"),  # and no objective
+    ({"ball": [{"name": "league", "stamp": "375 / .44"}]}, "ball[0].stamp"),
+    ({"ball": [{"name": "league", "stamp": ".44/375", "priors": ["nosuch"]}]}, "ball[0].priors"),
+    ({"ball": [{"name": "league", "stamp": ".44/375", "priors": ["type1", "type1"]}]},
+     "ball[0].priors"),
+    ({"ball": [{"name": "league", "stamp": ".44/375", "fit_evaluations": 0}]},
+     "ball[0].fit_evaluations"),
+    ({"confirm": {"rounds": 0}}, "confirm.rounds"),
 ])
 def test_a_bad_study_is_one_error_naming_its_field(change: dict, field: str) -> None:
     with pytest.raises(SpecError) as error:
@@ -207,3 +214,103 @@ def test_the_confirmation_offset_is_confirmed_minus_screened(tmp_path: Path) -> 
     expected = confirmed.responses["weight_oz"] - screened.responses["weight_oz"]
     assert expected != 0.0  # the meshes differ
     assert summary["confirmation_offset"]["weight_oz"] == pytest.approx(expected, rel=1e-12)
+
+
+def test_a_second_confirmation_round_reads_the_screening_mesh_by_the_first_ones_offset(
+    tmp_path: Path,
+) -> None:
+    """Weight against a limit: the finer confirmation mesh weighs every design more by the same
+    delta (the end cap's lumped mass is exact on both meshes, so the weight is the bare bat's
+    plus the mass). With the limit set half a delta above the design nearest 2 oz, the first
+    round confirms that design and finds it over the limit; the second round must rerun the
+    heaviest design whose screened weight plus delta is within the limit: the next lighter one.
+    Only that one is a best design, and the summary names it the best confirmed."""
+    import json
+
+    from batball.design.run import sample_unit
+
+    def weight(mass_oz: float, circumferential: int, axial: str) -> float:
+        from batball.calibrate.bat_fit import FreeParameter
+
+        props = LAB_TESTS["props"]
+        setup = props.setup(circumferential=circumferential, axial_size=axial)
+        spec = FreeParameter.parse("lumped_mass:endcap").apply(load_bat_spec("default"),
+                                                               mass_oz * OZ)  # fmt: skip
+        return props.execute({"bat": spec}, setup, runs_dir=tmp_path / "runs",
+                             reuse=True)[0]["weight_oz"]  # fmt: skip
+
+    delta = weight(0.0, 16, "0.5 in") - weight(0.0, 8, "1 in")
+    assert weight(3.0, 16, "0.5 in") - weight(3.0, 8, "1 in") == pytest.approx(delta, abs=1e-9)
+    assert delta > 0.1  # oz: the meshes differ enough to fail the first round
+    doc = study(objective=[{"maximize": "weight_oz"}],
+                confirm={"top": 1, "rounds": 2, "circumferential": 16, "axial_size": "0.5 in",
+                         "ball_divisions": 2})  # fmt: skip
+    masses = sorted(3.0 * sample_unit(design_study_from_dict(doc))[:, 0])  # oz
+    k = int(np.argmin([abs(m - 2.0) for m in masses]))
+    limit = weight(masses[k], 8, "1 in") + delta / 2
+    assert masses[k + 1] > masses[k] + delta / 2  # so design k is the screening mesh's best
+    # the heaviest design whose screened weight plus delta is within the limit
+    j = max(i for i, m in enumerate(masses) if m + delta <= masses[k] + delta / 2)
+    doc["constraint"] = [{"response": "weight_oz", "max": f"{limit} oz"}]
+    result = run_design_study(design_study_from_dict(doc), out_dir=tmp_path / "out",
+                              runs_dir=tmp_path / "runs", workers=0)  # fmt: skip
+    first, second = [d for d in result.designs if d.stage == "confirm"]
+    assert (first.round, second.round) == (1, 2)
+    assert first.values[0] / OZ == pytest.approx(masses[k], rel=1e-9)
+    assert not first.feasible
+    assert first.responses["weight_oz"] == pytest.approx(limit + delta / 2, abs=1e-6)
+    assert second.values[0] / OZ == pytest.approx(masses[j], rel=1e-9)
+    assert second.feasible
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text(encoding="utf-8"))
+    assert summary["best_confirmed"] == second.id
+    assert summary["best"][0]["design"] == second.id
+    assert first.id not in [b["design"] for b in summary["best"]]
+    assert next((tmp_path / "out" / "best").glob("1-*.toml")).name == f"1-{second.id}.toml"
+
+
+def test_a_league_ball_carries_each_priors_bbs_and_its_stamped_cor(tmp_path: Path) -> None:
+    """A ``[[ball]]`` given by its stamp is fitted per prior on the study's ball mesh (here a
+    budget too small to meet the stamp: what is checked is how the fitted balls are used). Each
+    prior's BBS column is the lab's BBS test of that prior's fitted ball on the design; the
+    league column is the largest of them and the spread their range; the BPF divides the BBCOR
+    by the stamped COR, 0.44, as USSSA's rule does. A second run reuses the fits and the runs."""
+    from batball.specs import load_ball_spec
+
+    league = {"name": "league", "stamp": ".44/375", "fit_points": 0, "fit_evaluations": 1}
+    doc = study(sampling={"designs": 1, "seed": 3}, ball=[league],
+                mesh={**COARSE, "ball_divisions": 4},
+                constraint=[{"rule": "asa-2004-bbs"}, {"rule": "usssa-bpf-1.20"}])  # fmt: skip
+    parsed = design_study_from_dict(doc)
+    assert {"bbs_league_110mph_type1", "bbs_league_110mph_type2",
+            "bbs_league_110mph_spread"} <= set(parsed.responses)  # fmt: skip
+    result = run_design_study(parsed, out_dir=tmp_path / "out", runs_dir=tmp_path / "runs",
+                              workers=0)  # fmt: skip
+    (design,) = result.designs
+    r = design.responses
+    fits = {row["prior"]: row for row in result.league_balls}
+    assert set(fits) == {"type1", "type2"}
+    bbs = LAB_TESTS["bbs"]
+    setup = bbs.setup(circumferential=8, axial_size="1 in", divisions=4, speed="110 mph")
+    from batball.design.run import design_spec
+    from batball.specs.bat import bat_spec_from_dict, bat_spec_to_toml_dict
+
+    # the design's bat as its job carries it (a spec document: the end cap's mass in oz, which
+    # reads back 1e-12 off, enough to move a BBS on this coarse mesh by 0.01 mph)
+    spec = design_spec(load_bat_spec("default"), parsed.parameters, design.values, "d")
+    bat = bat_spec_from_dict(bat_spec_to_toml_dict(spec), source="design")
+    for prior, row in fits.items():
+        ball = load_ball_spec(row["spec"])
+        assert ball.name == f"league-d4-{prior}"  # the fit's ball, from the fit's prior
+        assert ball.mass == load_ball_spec(prior).mass
+        direct = bbs.execute({"bat": bat, "ball": ball}, setup, runs_dir=tmp_path / "direct",
+                             reuse=True)[0]
+        assert r[f"bbs_league_110mph_{prior}"] == pytest.approx(direct["bbs_mph"], rel=1e-9)
+    each = [r["bbs_league_110mph_type1"], r["bbs_league_110mph_type2"]]
+    assert r["bbs_league_110mph"] == max(each)
+    assert r["bbs_league_110mph_spread"] == pytest.approx(max(each) - min(each), rel=1e-12)
+    assert r["bpf_league_110mph"] == pytest.approx(r["bbcor_league_110mph"] / 0.44, rel=1e-12)
+    runs = sorted(p.name for p in (tmp_path / "runs").rglob("*") if p.is_dir())
+    again = run_design_study(parsed, out_dir=tmp_path / "out", runs_dir=tmp_path / "runs",
+                             workers=0)  # fmt: skip
+    assert again.designs[0].responses == r
+    assert sorted(p.name for p in (tmp_path / "runs").rglob("*") if p.is_dir()) == runs
