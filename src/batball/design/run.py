@@ -448,22 +448,18 @@ def constraint_margins(study: DesignStudy, responses: dict[str, float]) -> dict[
     return margins
 
 
-def confirmation_candidates(study: DesignStudy, ranking: Sequence[Design],
-                            confirmed: Sequence[Design]) -> list[Design]:  # fmt: skip
-    """The designs the next confirmation round reruns: in the first, the best ``confirm_top``
-    feasible ones on the screening mesh. In a later one, the screening mesh's values are first
-    corrected by what the rounds before measured: each constraint's margin is taken at its worst
-    over the offsets (confirmed minus screened) of the designs confirmed so far, the objective
-    with their mean; the best ``confirm_top`` designs not yet confirmed that are feasible so
-    corrected are rerun (none: the rounds stop)."""
-    done = {d.id for d in confirmed}
-    if not confirmed:
-        return [d for d in ranking if d.feasible][: study.confirm_top]
+def corrected_ranking(study: DesignStudy, ranking: Sequence[Design],
+                      confirmed: Sequence[Design]) -> list[Design] | None:  # fmt: skip
+    """The screened designs not yet confirmed that stay feasible once their screening values are
+    corrected by what the confirmation measured, best first: each constraint's margin taken at
+    its worst over the offsets (confirmed minus screened) of the confirmed designs, the objective
+    with their mean. None when nothing was confirmed (no offset to correct by)."""
     screened = {d.id: d for d in ranking}
     offsets = [{r: c.responses[r] - screened[c.id].responses[r] for r in c.responses}
                for c in confirmed if not c.error and c.id in screened]  # fmt: skip
     if not offsets:
-        return []
+        return None
+    done = {d.id for d in confirmed}
     candidates = []
     for d in ranking:
         if d.error or d.id in done:
@@ -477,18 +473,31 @@ def confirmation_candidates(study: DesignStudy, ranking: Sequence[Design],
         if shadow.feasible:
             candidates.append((score(study, shadow), d))
     candidates.sort(key=lambda item: item[0])
-    return [d for _, d in candidates[: study.confirm_top]]
+    return [d for _, d in candidates]
+
+
+def confirmation_candidates(study: DesignStudy, ranking: Sequence[Design],
+                            confirmed: Sequence[Design]) -> list[Design]:  # fmt: skip
+    """The designs the next confirmation round reruns: in the first, the best ``confirm_top``
+    feasible ones on the screening mesh; in a later one, the best ``confirm_top`` of
+    :func:`corrected_ranking` (none: the rounds stop)."""
+    if not confirmed:
+        return [d for d in ranking if d.feasible][: study.confirm_top]
+    return (corrected_ranking(study, ranking, confirmed) or [])[: study.confirm_top]
 
 
 def best_designs(result: DesignResult) -> list[Design]:
     """The best designs, as best/ and summary.json list them: those feasible on the
-    confirmation mesh first (ranked on it), then the screening mesh's feasible designs that were
-    not rerun; a design the confirmation mesh found infeasible is left out."""
+    confirmation mesh first (ranked on it), then those not rerun that are feasible on the
+    screening mesh, corrected by the confirmation's offsets where there are any
+    (:func:`corrected_ranking`); a design the confirmation mesh found infeasible is left out."""
     study = result.study
-    confirmed = {d.id: d for d in result.designs if d.stage == "confirm" and not d.error}
+    confirmed = [d for d in result.designs if d.stage == "confirm" and not d.error]
     screened = {d.id: d for d in result.ranking}
-    sure = sorted((c for c in confirmed.values() if c.feasible), key=lambda c: score(study, c))
-    rest = [d for d in result.ranking if d.feasible and d.id not in confirmed]
+    sure = sorted((c for c in confirmed if c.feasible), key=lambda c: score(study, c))
+    rest = corrected_ranking(study, result.ranking, confirmed)
+    if rest is None:
+        rest = [d for d in result.ranking if d.feasible]
     return [screened[c.id] for c in sure if c.id in screened] + rest
 
 

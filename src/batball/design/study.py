@@ -34,6 +34,11 @@ A study file (units in the strings, as in every spec)::
     name = "type1"                    # embedded ball or a ball TOML file
     speeds = ["110 mph"]
 
+    [[ball]]                          # a league ball: fitted to its stamp per prior
+    name = "league"
+    stamp = ".44 / 375"               # COR at 60 mph / compression at 0.25 in (bare: lbf)
+    priors = ["type1", "type2"]       # optional
+
     [[constraint]]
     rule = "asa-2004-bbs"             # a certification rule (batball.design.rules)
 
@@ -49,7 +54,8 @@ Responses are the columns of ``designs.csv``: ``weight_oz``, ``balance_point_in`
 modal test, run when a constraint or objective names one, or ``modal = true``),
 ``barrel_preload_lbf``, ``barrel_final_load_lbf`` (the barrel test, likewise or ``barrel =
 true``), and per ball and speed ``bbs_<ball>_<speed>mph``, ``bbcor_<ball>_<speed>mph`` and
-``e_a_<ball>_<speed>mph``.
+``e_a_<ball>_<speed>mph`` (a league ball's: the largest over its priors, with
+``bbs_<ball>_<speed>mph_<prior>`` per prior and ``bbs_<ball>_<speed>mph_spread``).
 """
 
 from __future__ import annotations
