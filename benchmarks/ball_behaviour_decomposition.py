@@ -29,6 +29,7 @@ extent, from the field frames, so at the frames' spacing) and mean compressive s
 kinetic energy: the ball's internal energy at its peak and at the end (kept: dissipated, plus
 the strain energy of the ball's vibration), the ball's hourglass energy at its peak and at the
 end, the bat's internal energy at its peak and at the end; what each returned (peak minus end);
+the energy the ball's bulk viscosity dissipated;
 and the outcome: the rebound over the inbound speed (every target), BBCOR and BBS on the
 pivoting bats. On the bats
 the contact time counts every step with a contact force; on the cylinder it is the CCOR test's
@@ -109,6 +110,7 @@ def measures(folder: Path, summary: dict[str, Any], diameter_in: float) -> dict[
     ball_int = h["ball_internal_energy_j" if bat_run else "internal_energy_j"]
     ball_hg = h["ball_hourglass_energy_j" if bat_run else "hourglass_energy_j"]
     bat_int = h["bat_internal_energy_j"] if bat_run else np.zeros_like(t)
+    bulk = h["ball_bulk_viscosity_energy_j" if bat_run else "bulk_viscosity_energy_j"]
     compression = compression_in(folder, diameter_in)
     out = {
         "contact_time_ms": float(summary["contact_time_ms"]),
@@ -122,6 +124,7 @@ def measures(folder: Path, summary: dict[str, Any], diameter_in: float) -> dict[
         "hourglass_kept": float(ball_hg[-1] / kinetic0),
         "bat_peak": float(bat_int.max() / kinetic0),
         "bat_kept": float(bat_int[-1] / kinetic0),
+        "bulk_viscosity_kept": float(bulk[-1] / kinetic0),
     }
     if bat_run:
         out["bbcor"] = float(summary["bbcor"])
@@ -218,35 +221,43 @@ def table9(results: dict[str, dict[str, float]]) -> str:
 
 
 def decomposition(results: dict[str, dict[str, float]]) -> str:
-    """The decomposition table: every ball and speed against the four targets (the bat's)."""
-    head = ("| ball set | ball @ mph | target | contact ms | to peak ms | peak lbf | "
-            "compression in | strain rate 1/s | ball stored / kept | hourglass peak / kept | "
-            "bat peak / kept | returned: ball / hourglass / bat | rebound ratio | BBCOR | "
-            "BBS mph |")
-    lines = [head, "|" + "---|" * (head.count("|") - 1)]
-    for key, m in results.items():
-        set_name, ball, mph, target, bat = key.split("|")
-        ball = Path(ball).stem  # a ball file by its name
-        if bat != BAT:
-            continue
-        if "error" in m:
-            lines.append(f"| {set_name} | {ball} @ {mph} | {target} | failed: {m['error']} |")
-            continue
-        returned = (m["ball_stored"] - m["ball_kept"], m["hourglass_peak"] - m["hourglass_kept"],
-                    m["bat_peak"] - m["bat_kept"])  # fmt: skip
-        pivoting = target in ("rigid bat", "flexible bat")  # BBCOR and BBS need the pivot
-        lines.append(
-            f"| {set_name} | {ball} @ {mph} | {target} | {m['contact_time_ms']:.3f} | "
-            f"{m['time_to_peak_ms']:.3f} | {m['peak_force_lbf']:.0f} | "
-            f"{m['compression_in']:.3f} | {m['strain_rate_per_s']:.0f} | "
-            f"{m['ball_stored']:.3f} / {m['ball_kept']:.3f} | "
-            f"{m['hourglass_peak']:.3f} / {m['hourglass_kept']:.3f} | "
-            f"{m['bat_peak']:.3f} / {m['bat_kept']:.3f} | "
-            + " / ".join(f"{x:.3f}" for x in returned)
-            + f" | {m['restitution']:.3f} | "
-            + (f"{m['bbcor']:.3f} | {m['bbs_mph']:.2f} |" if pivoting else "- | - |")
-        )
-    return "\n".join(lines)
+    """The decomposition, every ball and speed against the four targets (the model of record's
+    bat), as two tables: the contact and the outcome, then the energies."""
+    contact_head = ("| ball set | ball @ mph | target | contact ms | to peak ms | peak lbf | "
+                    "compression in | strain rate 1/s | rebound ratio | BBCOR | BBS mph |")
+    energy_head = ("| ball set | ball @ mph | target | ball stored / kept | hourglass peak / kept "
+                   "| bat peak / kept | returned: ball / hourglass / bat | bulk viscosity |")
+    tables = []
+    for head in (contact_head, energy_head):
+        lines = [head, "|" + "---|" * (head.count("|") - 1)]
+        for key, m in results.items():
+            set_name, ball, mph, target, bat = key.split("|")
+            if bat != BAT:
+                continue
+            row = f"| {set_name} | {Path(ball).stem} @ {mph} | {target} | "
+            if "error" in m:
+                lines.append(row + f"failed: {m['error']} |")
+            elif head is contact_head:
+                pivoting = target in ("rigid bat", "flexible bat")  # BBCOR, BBS need the pivot
+                lines.append(
+                    row + f"{m['contact_time_ms']:.3f} | {m['time_to_peak_ms']:.3f} | "
+                    f"{m['peak_force_lbf']:.0f} | {m['compression_in']:.3f} | "
+                    f"{m['strain_rate_per_s']:.0f} | {m['restitution']:.3f} | "
+                    + (f"{m['bbcor']:.3f} | {m['bbs_mph']:.2f} |" if pivoting else "- | - |")
+                )
+            else:
+                returned = (m["ball_stored"] - m["ball_kept"],
+                            m["hourglass_peak"] - m["hourglass_kept"],
+                            m["bat_peak"] - m["bat_kept"])  # fmt: skip
+                lines.append(
+                    row + f"{m['ball_stored']:.3f} / {m['ball_kept']:.3f} | "
+                    f"{m['hourglass_peak']:.3f} / {m['hourglass_kept']:.3f} | "
+                    f"{m['bat_peak']:.3f} / {m['bat_kept']:.3f} | "
+                    + " / ".join(f"{x:.3f}" for x in returned)
+                    + f" | {m['bulk_viscosity_kept']:.3f} |"
+                )
+        tables.append("\n".join(lines))
+    return "\n\n".join(tables)
 
 
 if __name__ == "__main__":
