@@ -417,17 +417,7 @@ def run_design_study(
     confirmed: list[Design] = []
     if study.confirm is not None and study.confirm_top:
         t0 = time.perf_counter()
-        with open_executor(workers=0) as inline:  # full-size runs use every core each
-            ev.executor = inline
-            for round_ in range(1, study.confirm_rounds + 1):
-                top = confirmation_candidates(study, ranking, confirmed)
-                if not top:
-                    break
-                say(f"confirming {len(top)} designs on {study.confirm.label} (round {round_})")
-                new = ev.evaluate([d.values for d in top], "confirm", study.confirm)
-                for d in new:
-                    d.round = round_
-                confirmed += new
+        confirmed = _confirm(study, ev, ranking, say)
         stage_seconds["confirm"] = time.perf_counter() - t0
     front = pareto_front(study, screened)
     result = DesignResult(study, screened + confirmed, ranking, front,
@@ -436,6 +426,28 @@ def run_design_study(
                           league_rows(ev.league))  # fmt: skip
     write_outputs(result, base)
     return result
+
+
+def _confirm(study: DesignStudy, ev: _Evaluator, ranking: Sequence[Design],
+             say: Callable[[str], None]) -> list[Design]:  # fmt: skip
+    """The confirmation rounds (:func:`confirmation_candidates`), in this process: a full-size
+    run uses every core itself."""
+    from batball.calibrate.executors import open_executor
+
+    assert study.confirm is not None
+    confirmed: list[Design] = []
+    with open_executor(workers=0) as inline:
+        ev.executor = inline
+        for round_ in range(1, study.confirm_rounds + 1):
+            top = confirmation_candidates(study, ranking, confirmed)
+            if not top:
+                break
+            say(f"confirming {len(top)} designs on {study.confirm.label} (round {round_})")
+            new = ev.evaluate([d.values for d in top], "confirm", study.confirm)
+            for d in new:
+                d.round = round_
+            confirmed += new
+    return confirmed
 
 
 def constraint_margins(study: DesignStudy, responses: dict[str, float]) -> dict[str, float]:
