@@ -20,6 +20,9 @@ declare -A ARGS=(
   [type1-mat006-fit110]="--ball type1 --model mat006 --fit-speeds 110mph"
   [type2-mat006-fit95]="--ball type2 --model mat006 --fit-speeds 95mph"
   [type2-mat006-fit110]="--ball type2 --model mat006 --fit-speeds 110mph"
+  # the seed's hourglass form (stiffness IHQ 4, QM 0.01) as part of the fitted model
+  [type1-mat006-ihq4]="--ball type1 --model mat006 --hourglass-type 4 --hourglass-coefficient 0.01"
+  [type2-mat006-ihq4]="--ball type2 --model mat006 --hourglass-type 4 --hourglass-coefficient 0.01"
 )
 names=("$@")
 [ ${#names[@]} -eq 0 ] && names=(type1-mat006 type2-mat006 type1-prony3 type2-prony3 type1-mat006-fit95 type1-mat006-fit110)

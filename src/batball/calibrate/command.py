@@ -34,6 +34,10 @@ def add_calibrate_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", choices=sorted(DEFAULT_FREE), help="material model (ball's own)")
     p.add_argument("--targets", type=Path, help="TOML or CSV of targets (default: seed Tables 5-8)")
     p.add_argument("--fit-speeds", action="append", help="fit only targets at this speed; repeat")
+    p.add_argument("--hourglass-type", type=int, help="the ball's hexes' hourglass control as "
+                   "part of the model, LS-DYNA IHQ 1-5 (default: the ball file's, else viscous 1)")
+    p.add_argument("--hourglass-coefficient", type=float, help="its QH/QM (default: the ball "
+                   "file's, else 0.1); either option replaces the ball's own control")
     p.add_argument("--free", action="append", help="a parameter to fit; repeat (default: model's)")
     p.add_argument("--bound", action="append", default=[], help="NAME=LOWER:UPPER with units")
     p.add_argument("--quick", action="store_true", help="coarse mesh only, small budget")
@@ -77,7 +81,7 @@ def starting_ball(args: argparse.Namespace) -> Any:
     from batball.materials.prony import prony_from_mat006
     from batball.specs import MaterialSpec, load_ball_spec
 
-    ball = load_ball_spec(args.ball)
+    ball = with_hourglass_options(load_ball_spec(args.ball), args)
     model = args.model or ball.material.law
     if model not in DEFAULT_FREE:
         raise SpecError("model", model, f"one of {', '.join(DEFAULT_FREE)}")
@@ -92,6 +96,29 @@ def starting_ball(args: argparse.Namespace) -> Any:
         )
     values = prony_from_mat006(ball.material.values, n_terms=int(model.removeprefix("prony")))
     return dataclasses.replace(ball, material=MaterialSpec(law=model, values=values))
+
+
+def with_hourglass_options(ball: Any, args: argparse.Namespace) -> Any:
+    """``ball`` with the hourglass control of ``--hourglass-type``/``--hourglass-coefficient``
+    as part of its model (either replaces the ball's own; the other then takes the solver
+    default, IHQ 1 or 0.1), or ``ball`` as it is when neither is given."""
+    from batball.specs import BallHourglass
+
+    # (callers that build their own namespace, such as the routes command, may leave them out)
+    kind = getattr(args, "hourglass_type", None)
+    coefficient = getattr(args, "hourglass_coefficient", None)
+    if kind is None and coefficient is None:
+        return ball
+    hourglass = BallHourglass(type=1 if kind is None else kind,
+                              coefficient=0.1 if coefficient is None else coefficient)  # fmt: skip
+    return dataclasses.replace(ball, hourglass=hourglass)
+
+
+def default_study(ball: Any) -> Path:
+    """``runs/calibrate-BALL-LAW[-ihqN].db``: a ball whose model names its hourglass control
+    gets its own study file (its runs have their own keys in any case)."""
+    suffix = "" if ball.hourglass is None else f"-ihq{ball.hourglass.type}"
+    return Path("runs") / f"calibrate-{ball.name}-{ball.material.law}{suffix}.db"
 
 
 def select_targets(args: argparse.Namespace, ball_name: str) -> tuple[Any, Any]:
@@ -126,7 +153,7 @@ def run_calibrate_command(args: argparse.Namespace) -> int:
     ball = starting_ball(args)
     targets, fitted_targets = select_targets(args, ball.name)
     options = optimiser_options(args)
-    study = args.study or Path("runs") / f"calibrate-{ball.name}-{ball.material.law}.db"
+    study = args.study or default_study(ball)
     check_output_file("study", study)
     if args.save is not None:
         check_output_file("save", args.save)
@@ -278,6 +305,7 @@ def calibration_summary(
     return {
         "ball": ball.name,
         "model": space.law.name,
+        "hourglass": None if ball.hourglass is None else dataclasses.asdict(ball.hourglass),
         "parameters": space.describe(final.values),
         "parameters_si": {p.name: final.values[p.name] for p in space.free},
         "targets": target_rows(targets, fitted, final.simulated),
@@ -299,8 +327,11 @@ def calibration_summary(
 
 def describe_calibration(s: Mapping[str, Any]) -> str:
     """The text report: the per-target table and the fitted parameters."""
+    hg = s.get("hourglass")
+    form = "" if hg is None else f", hourglass IHQ {hg['type']} {hg['coefficient']}"
     lines = [
-        f"calibration of ball {s['ball']} ({s['model']}, final mesh divisions {s['divisions']})",
+        f"calibration of ball {s['ball']} ({s['model']}{form}, final mesh divisions "
+        f"{s['divisions']})",
         f"  {'target':<26} {'measured':>9} {'fitted':>9} {'seed FE':>9} {'fit %':>7} {'FE %':>7}",
     ]
     for r in s["targets"]:

@@ -64,6 +64,9 @@ class RunRequest:
             "values": {k: float(v).hex() for k, v in self.ball.material.values.items()},
             **({"curves": _curves_inputs(self.ball)} if self.ball.material.curves else {}),
         }
+        if self.ball.hourglass is not None:  # the balls without one keep their keys
+            inputs["hourglass"] = [self.ball.hourglass.type,
+                                   float(self.ball.hourglass.coefficient).hex()]  # fmt: skip
         if self.test == "compression":  # the impact runs' keys stay as they were
             inputs["quasi_static_ratio"] = float(COMPRESSION_RATIO).hex()
         return inputs

@@ -35,6 +35,7 @@ import numpy as np
 from batball.contact.columns import ColumnContact
 from batball.errors import SimulationError
 from batball.lab.fit_store import FitRelaxation, fit_inputs, obtain_fit
+from batball.models.ball import with_ball_hourglass
 from batball.models.bbs import (
     BbsModel,
     BbsSetup,
@@ -202,6 +203,7 @@ def run_bbs(bat: BatSpec, ball: BallSpec, setup: BbsSetup, *, store: Path | None
             reuse: bool = True) -> BbsResult:  # fmt: skip
     """Build, run and measure one batted-ball-speed test (``store``: the runs folder that keeps
     the bat's relaxed fit, :func:`run_bbs_model`)."""
+    setup = with_ball_hourglass(setup, ball)
     model = build_bbs_model(bat, ball, setup)
     run = run_bbs_model(model, setup, store=store, reuse=reuse)
     return BbsResult(bat, ball, setup, model, run, measure_bbs(model, run, setup))

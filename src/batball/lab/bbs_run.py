@@ -19,6 +19,7 @@ import numpy as np
 
 from batball.lab.bbs import BbsResult, run_bbs
 from batball.mesh import Mesh, ShellMesh
+from batball.models.ball import ball_hourglass, with_ball_hourglass
 from batball.models.bbs import BbsSetup
 from batball.results.fields import write_time_series
 from batball.results.plots import plot_force_time
@@ -37,6 +38,7 @@ from batball.version import __version__
 
 def bbs_inputs(bat: BatSpec, ball: BallSpec, setup: BbsSetup) -> dict[str, Any]:
     """Everything that determines a run, JSON-able: the key of its run folder."""
+    setup = with_ball_hourglass(setup, ball)
     return {
         "bat": bat_spec_to_toml_dict(bat),
         "ball": ball_spec_to_toml_dict(ball),
@@ -74,8 +76,8 @@ def summarise_bbs(result: BbsResult, wall_seconds: float) -> dict[str, Any]:
         "mass_scaling": setup.mass_scaling,
         "insert_friction": setup.insert_friction,
         "bat_shell": setup.bat_shell,
-        "ball_hourglass_type": setup.hourglass.type,
-        "ball_hourglass_coefficient": setup.hourglass.coefficient,
+        "ball_hourglass_type": ball_hourglass(setup.hourglass, result.ball).type,
+        "ball_hourglass_coefficient": ball_hourglass(setup.hourglass, result.ball).coefficient,
         **({"ball_contact_sfs": setup.contact.sfs} if setup.contact.sfs != 1.0 else {}),
         "added_mass_g": float(result.model.added_mass.sum() * 1e3),
         "added_mass_percent": float(

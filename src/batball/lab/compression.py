@@ -42,6 +42,7 @@ import numpy as np
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SimulationError
 from batball.mesh import Mesh
+from batball.models.ball import ball_hourglass, with_ball_hourglass
 from batball.models.compression import (
     TRAVEL_MARGIN,
     CompressionSetup,
@@ -115,14 +116,16 @@ def power_law_reading(displacement: np.ndarray, force: np.ndarray, at: float) ->
 def run_compression(
     ball: BallSpec, setup: CompressionSetup, *, progress: Callable[[float], None] | None = None
 ) -> CompressionResult:
-    """Build, run and measure one compression test."""
+    """Build, run and measure one compression test (the setup's hourglass control, else the
+    ball's)."""
+    setup = with_ball_hourglass(setup, ball)
     model, scale, damping = build_compression_model(ball, setup)
     loading_time = setup.displacement / setup.rate
     hertz_force = relaxed_hertz(model.material_constants[0], ball.radius, setup.displacement)[0]
     controls = ExplicitControls(
         end_time=TRAVEL_MARGIN * loading_time,
         time_step_scale=setup.time_step_scale,
-        hourglass=setup.hourglass,
+        hourglass=ball_hourglass(setup.hourglass, ball),
         bulk_viscosity=setup.bulk_viscosity,
         mass_damping=damping,
         frame_count=20,

@@ -16,6 +16,7 @@ from typing import Any
 from batball.lab.compression import CompressionResult, run_compression
 from batball.lab.impact_run import ball_test_inputs, write_ball_fields
 from batball.mesh import mesh_quality
+from batball.models.ball import ball_hourglass
 from batball.models.compression import CompressionSetup
 from batball.results.plots import plot_lines
 from batball.results.store import (
@@ -65,8 +66,8 @@ def summarise_compression(result: CompressionResult, wall_seconds: float) -> dic
         "n_steps": run.n_steps,
         "wall_seconds": wall_seconds,
         "solver_seconds": run.wall_seconds,
-        "hourglass_type": setup.hourglass.type,
-        "hourglass_coefficient": setup.hourglass.coefficient,
+        "hourglass_type": ball_hourglass(setup.hourglass, result.ball).type,
+        "hourglass_coefficient": ball_hourglass(setup.hourglass, result.ball).coefficient,
         "bulk_viscosity": setup.bulk_viscosity.enabled,
         "contact_soft": setup.contact.soft,
         **({"contact_sfs": setup.contact.sfs} if setup.contact.sfs != 1.0 else {}),

@@ -17,6 +17,7 @@ from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.errors import SimulationError
 from batball.lab.measures import ImpactMeasures, max_approach, measure_impact
 from batball.mesh import Mesh
+from batball.models.ball import ball_hourglass, with_ball_hourglass
 from batball.models.impact import ImpactSetup, build_impact_model
 from batball.solvers.explicit import (
     ExplicitControls,
@@ -56,12 +57,13 @@ class ImpactResult:
 def run_impact(
     ball: BallSpec, setup: ImpactSetup, *, progress: Callable[[float], None] | None = None
 ) -> ImpactResult:
-    """Build, run and measure one impact test."""
+    """Build, run and measure one impact test (the setup's hourglass control, else the ball's)."""
+    setup = with_ball_hourglass(setup, ball)
     model = build_impact_model(ball, setup)
     controls = ExplicitControls(
         end_time=setup.end_time,
         time_step_scale=setup.time_step_scale,
-        hourglass=setup.hourglass,
+        hourglass=ball_hourglass(setup.hourglass, ball),
         bulk_viscosity=setup.bulk_viscosity,
         separation_time=setup.separation_time,
         precision=setup.precision,

@@ -19,6 +19,7 @@ import numpy as np
 from batball.contact.rigid import RigidCylinder, RigidPlane
 from batball.lab.impact import ImpactResult, run_impact
 from batball.mesh import Mesh, mesh_quality
+from batball.models.ball import ball_hourglass, with_ball_hourglass
 from batball.models.impact import ImpactSetup
 from batball.results.fields import write_target_series, write_time_series
 from batball.results.plots import plot_force_time
@@ -41,7 +42,9 @@ HOURGLASS = ENERGY_COLUMNS.index("hourglass")
 
 def ball_test_inputs(ball: BallSpec, setup: Any) -> dict[str, Any]:
     """Everything that determines a ball test's run (the ball, the test's setup dataclass, the
-    batball version), JSON-able: the key of its run folder."""
+    batball version), JSON-able: the key of its run folder; the hourglass control the run uses
+    is in the setup's part, whether the test or the ball names it."""
+    setup = with_ball_hourglass(setup, ball)
     return {
         "ball": ball_spec_to_toml_dict(ball),
         "setup": dataclasses.asdict(setup),
@@ -81,8 +84,8 @@ def summarise(result: ImpactResult, wall_seconds: float) -> dict[str, Any]:
         "wall_seconds": wall_seconds,
         "solver_seconds": run.wall_seconds,
         "element_cycles_per_second": result.mesh.n_cells * run.n_steps / run.wall_seconds,
-        "hourglass_type": setup.hourglass.type,
-        "hourglass_coefficient": setup.hourglass.coefficient,
+        "hourglass_type": ball_hourglass(setup.hourglass, result.ball).type,
+        "hourglass_coefficient": ball_hourglass(setup.hourglass, result.ball).coefficient,
         "bulk_viscosity": setup.bulk_viscosity.enabled,
         "contact_soft": setup.contact.soft,
         **({"contact_sfs": setup.contact.sfs} if setup.contact.sfs != 1.0 else {}),

@@ -23,8 +23,11 @@ SPEED = Option("speed", "95 mph", "inbound speed with its unit", dimension="velo
                check=lambda v: v > 0, allowed="a positive speed, e.g. '95 mph'")  # fmt: skip
 DIVISIONS = Option("divisions", 12, "ball mesh size: 12 gives the seed's 12,096 hexes",
                    kind="int")  # fmt: skip
-HOURGLASS_TYPE = Option("hourglass_type", 1, "LS-DYNA IHQ 1-5", kind="int")
-HOURGLASS_COEFFICIENT = Option("hourglass_coefficient", 0.1, "QH/QM", kind="float")
+HOURGLASS_TYPE = Option("hourglass_type", None, "LS-DYNA IHQ 1-5, replacing the ball's own "
+                        "(the ball file's [hourglass], else viscous IHQ 1)",
+                        kind="int")  # fmt: skip
+HOURGLASS_COEFFICIENT = Option("hourglass_coefficient", None, "QH/QM, replacing the ball's own "
+                               "(the ball file's, else 0.1)", kind="float")  # fmt: skip
 BULK_VISCOSITY = Option("bulk_viscosity", True, "bulk viscosity (Q1 = 1.5, Q2 = 0.06)",
                         kind="flag")  # fmt: skip
 SOFT = Option("soft", 0, "contact SOFT option, 0 or 1", kind="int")
@@ -137,10 +140,12 @@ def ball_numerics(values: Mapping[str, Any]) -> dict[str, Any]:
     from batball.models.ball import ContactOptions
     from batball.solvers.explicit import BulkViscosity, HourglassControl
 
+    hourglass = {k: values[f"hourglass_{k}"] for k in ("type", "coefficient")}
+    given = {k: v for k, v in hourglass.items() if v is not None}
     return {
-        "hourglass": HourglassControl(
-            type=values["hourglass_type"], coefficient=values["hourglass_coefficient"]
-        ),
+        # none given: the ball's own; one given: the other at the solver default (both replace
+        # the ball's, so that an option never mixes with a ball file's value)
+        "hourglass": HourglassControl(**given) if given else None,
         "bulk_viscosity": BulkViscosity(
             **({} if "bulk_viscosity" not in values else {"enabled": values["bulk_viscosity"]})
         ),
@@ -345,8 +350,10 @@ BBS = LabTest(
                "rigid turn, e.g. '1000 1/s' (as LS-DYNA *DAMPING_RELATIVE; 0: none, as the "
                "seed)", dimension="frequency"),
         HOURGLASS_RATIO, SHELL,
-        replace(HOURGLASS_TYPE, help="the ball's hourglass control, LS-DYNA IHQ 1-5"),
-        replace(HOURGLASS_COEFFICIENT, help="the ball's QH/QM"),
+        replace(HOURGLASS_TYPE, help="the ball's hourglass control, LS-DYNA IHQ 1-5, replacing "
+                "the ball's own (its file's [hourglass], else viscous IHQ 1)"),
+        replace(HOURGLASS_COEFFICIENT, help="the ball's QH/QM, replacing its own (its file's, "
+                "else 0.1)"),
         SFS,
         PRECISION,
     ),

@@ -43,7 +43,7 @@ from batball.materials.laminate import Ply
 from batball.materials.orthotropic import MAT022_PARAMETERS
 from batball.mesh.bat import make_bat_mesh
 from batball.mesh.shell import ShellMesh, quad_areas
-from batball.models.ball import ball_body
+from batball.models.ball import ball_body, with_ball_hourglass
 from batball.models.barrel import (
     BarrelTestOptions,
     build_barrel_model,
@@ -431,6 +431,7 @@ def bbs_deck(
 
 def _bbs_lines(spec: BatSpec, ball: BallSpec, setup: BbsSetup, u: UnitSystem) -> list[str]:
     """The bbs deck's lines."""
+    setup = with_ball_hourglass(setup, ball)
     model = build_bbs_model(spec, ball, setup)
     mesh, coupled = model.bat_mesh, model.coupled
     ball_points = coupled.points[mesh.n_points :]

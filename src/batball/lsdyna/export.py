@@ -30,7 +30,7 @@ from batball.lsdyna.cards import (
     format_card,
     unit_system,
 )
-from batball.models.ball import ball_body
+from batball.models.ball import ball_body, with_ball_hourglass
 from batball.models.compression import TRAVEL_MARGIN, CompressionSetup, build_compression_model
 from batball.models.impact import ImpactSetup, make_target
 from batball.specs import BallSpec
@@ -238,6 +238,7 @@ def impact_deck(
 
 def _impact_deck(ball: BallSpec, setup: ImpactSetup, u: UnitSystem) -> str:
     """The deck's text, in the format _LONG says."""
+    setup = with_ball_hourglass(setup, ball)
     body = ball_body(ball, setup.divisions, setup.contact, setup.time_step_scale)
     target = make_target(setup, ball.radius)
     speed = setup.speed / u.velocity
@@ -338,6 +339,7 @@ def compression_deck(
 
 def _compression_deck(ball: BallSpec, setup: CompressionSetup, u: UnitSystem) -> str:
     """The compression deck's text."""
+    setup = with_ball_hourglass(setup, ball)
     model, scale, damping = build_compression_model(ball, setup)
     top, bottom = (c.target for c in model.contacts)
     end = TRAVEL_MARGIN * setup.displacement / setup.rate

@@ -5,7 +5,9 @@ surface nodes (LS-DYNA SOFT = 0 or 1, :mod:`batball.contact.rigid`).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -17,7 +19,27 @@ from batball.errors import SpecError
 from batball.materials.base import BULK, G0
 from batball.materials.foam import FoamTable
 from batball.mesh import Mesh, boundary_faces, hex_volumes, make_ball_mesh
+from batball.solvers.explicit import HourglassControl
 from batball.specs import BallSpec
+
+SetupT = TypeVar("SetupT")
+
+
+def ball_hourglass(test: HourglassControl | None, ball: BallSpec) -> HourglassControl:
+    """The hourglass control a run of ``ball`` uses: the test's when it sets one, else the one
+    the ball's model names, else the solver default (viscous IHQ 1, QH 0.1)."""
+    if test is not None:
+        return test
+    if ball.hourglass is not None:
+        return HourglassControl(type=ball.hourglass.type, coefficient=ball.hourglass.coefficient)
+    return HourglassControl()
+
+
+def with_ball_hourglass(setup: SetupT, ball: BallSpec) -> SetupT:
+    """``setup`` (any setup dataclass with an ``hourglass`` field) with the hourglass control
+    of :func:`ball_hourglass` filled in, so that its run key, summary and deck name it."""
+    current: Any = getattr(setup, "hourglass")  # noqa: B009 (typed by the setup dataclasses)
+    return dataclasses.replace(setup, hourglass=ball_hourglass(current, ball))  # type: ignore[type-var]
 
 
 @dataclass(frozen=True)

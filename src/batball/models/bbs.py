@@ -36,7 +36,14 @@ from batball.errors import SpecError
 from batball.mesh import boundary_faces, hex_volumes
 from batball.mesh.bat import make_bat_mesh, outer_rings
 from batball.mesh.shell import ShellMesh, quad_areas
-from batball.models.ball import BallBody, ContactOptions, ball_body, estimate_first_step
+from batball.models.ball import (
+    BallBody,
+    ContactOptions,
+    ball_body,
+    ball_hourglass,
+    estimate_first_step,
+    with_ball_hourglass,
+)
 from batball.models.bat import bat_areal_mass, bat_laminates
 from batball.solvers.ball_bat import (
     BallPart,
@@ -109,7 +116,7 @@ class BbsSetup:
     end_time: float = 2e-3
     separation_time: float = 0.2e-3
     time_step_scale: float = 0.9
-    hourglass: HourglassControl = field(default_factory=HourglassControl)
+    hourglass: HourglassControl | None = None  # None: the ball's own (models.ball)
     bulk_viscosity: BulkViscosity = field(default_factory=BulkViscosity)
     contact: ContactOptions = field(default_factory=ContactOptions)
     rigid_bat: bool = False
@@ -288,8 +295,8 @@ def place_ball(
         body.density,
         volume0,
         mass,
-        setup.hourglass.type,
-        setup.hourglass.coefficient,
+        ball_hourglass(setup.hourglass, ball).type,
+        ball_hourglass(setup.hourglass, ball).coefficient,
         *((bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)),
         foam=body.foam,
         reference=points.copy() if body.foam is not None else None,
@@ -400,6 +407,7 @@ def insert_barrel_contact(spec: BatSpec, bat: BatPart, mesh: ShellMesh,
 
 def build_bbs_model(spec: BatSpec, ball: BallSpec, setup: BbsSetup) -> BbsModel:
     """The bat on its pivot and the ball about to hit it (module docs)."""
+    setup = with_ball_hourglass(setup, ball)
     body = ball_body(ball, setup.ball_divisions, setup.contact, setup.time_step_scale)
     ball_step = setup.time_step_scale * estimate_first_step(body.mesh, body.constants,
                                                             body.density)  # fmt: skip

@@ -45,7 +45,7 @@ class CompressionSetup:
     displacement: float = 0.25 * IN
     rate: float = IN / 60.0
     divisions: int = 12
-    hourglass: HourglassControl = field(default_factory=HourglassControl)
+    hourglass: HourglassControl | None = None  # None: the ball's own (models.ball)
     bulk_viscosity: BulkViscosity = field(default_factory=BulkViscosity)
     contact: ContactOptions = field(default_factory=ContactOptions)
     time_step_scale: float = 0.9

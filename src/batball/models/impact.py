@@ -49,7 +49,7 @@ class ImpactSetup:
     test: str
     speed: float
     divisions: int = 12
-    hourglass: HourglassControl = field(default_factory=HourglassControl)
+    hourglass: HourglassControl | None = None  # None: the ball's own (models.ball)
     bulk_viscosity: BulkViscosity = field(default_factory=BulkViscosity)
     contact: ContactOptions = field(default_factory=ContactOptions)
     time_step_scale: float = 0.9

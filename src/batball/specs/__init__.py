@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from batball.specs.ball import (
     EMBEDDED_BALLS,
+    BallHourglass,
     BallSpec,
     MaterialSpec,
     ball_spec_from_dict,
@@ -29,6 +30,7 @@ from batball.specs.seed import SeedBallImpact, SeedBattedBallSpeed, SeedTables, 
 __all__ = [
     "EMBEDDED_BALLS",
     "EMBEDDED_BATS",
+    "BallHourglass",
     "BallSpec",
     "BatSpec",
     "InsertSpec",

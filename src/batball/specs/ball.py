@@ -25,6 +25,15 @@ fields and its loading curve(s) as an array of tables, stresses as numbers in ``
 
 (``specs/data/foam057.toml`` and ``foam083.toml`` are complete examples.)
 
+A ball may name the hourglass control of its one-point hexes as part of its model (LS-DYNA's
+``*HOURGLASS`` card of the ball's part); without one the tests use the solver default, the
+viscous IHQ 1 with QH 0.1, and a test's own ``--hourglass-type``/``--hourglass-coefficient``
+replace the ball's::
+
+    [hourglass]
+    type = 4                       # LS-DYNA IHQ: 1-3 viscous, 4-5 stiffness
+    coefficient = 0.01             # QH (viscous) or QM (stiffness), 0-0.5
+
 A generalised viscoelastic ball (``law = "prony3"``, :mod:`batball.materials.prony`) gives
 ``bulk_modulus``, ``g_inf`` and ``g1``/``beta1`` .. ``g3``/``beta3`` instead of ``g0``, ``g_inf``,
 ``beta``; ``batball calibrate --save`` writes either kind.
@@ -65,7 +74,16 @@ EXAMPLE_BALLS: tuple[str, ...] = ("foam057", "foam083")
 CURVE_KEYS: tuple[str, ...] = ("strain_rate", "strain", "stress", "stress_unit")
 
 #: Keys of a ball spec document (``description`` is optional).
-BALL_KEYS: tuple[str, ...] = ("name", "description", "circumference", "mass", "material")
+BALL_KEYS: tuple[str, ...] = (
+    "name", "description", "circumference", "mass", "material", "hourglass",
+)  # fmt: skip
+
+#: LS-DYNA's hourglass types (IHQ) of a one-point solid a ball may name: 1-3 viscous, 4-5
+#: stiffness (the solver's hex supports these; :data:`batball.elements.hex8.HOURGLASS_TYPES`).
+BALL_HOURGLASS_TYPES: tuple[int, ...] = (1, 2, 3, 4, 5)
+#: Largest hourglass coefficient QH/QM a ball may name (LS-DYNA's recommended range ends at 0.15;
+#: the solver accepts up to 0.5).
+MAX_HOURGLASS_COEFFICIENT = 0.5
 
 MAX_CIRCUMFERENCE = 1.0  # m; any ball, not only the 12-in softball (0.3048 m)
 MAX_MASS = 10.0  # kg
@@ -152,6 +170,33 @@ class MaterialSpec:
 
 
 @dataclass(frozen=True)
+class BallHourglass:
+    """The hourglass control of a ball's one-point hexes, part of the ball's model.
+
+    Attributes:
+        type: LS-DYNA IHQ (:data:`BALL_HOURGLASS_TYPES`: 1-3 viscous, 4-5 stiffness).
+        coefficient: QH (viscous) or QM (stiffness), 0 to :data:`MAX_HOURGLASS_COEFFICIENT`.
+
+    Raises:
+        SpecError: naming ``hourglass.type`` or ``hourglass.coefficient``.
+    """
+
+    type: int
+    coefficient: float
+
+    def __post_init__(self) -> None:
+        if type(self.type) is not int or self.type not in BALL_HOURGLASS_TYPES:
+            raise SpecError("hourglass.type", self.type,
+                            f"an integer, one of {', '.join(map(str, BALL_HOURGLASS_TYPES))}")
+        value = self.coefficient
+        numeric = isinstance(value, int | float) and not isinstance(value, bool)
+        if not (numeric and math.isfinite(value) and 0.0 <= value <= MAX_HOURGLASS_COEFFICIENT):
+            raise SpecError("hourglass.coefficient", value,
+                            f"a number 0 <= coefficient <= {MAX_HOURGLASS_COEFFICIENT}")
+        object.__setattr__(self, "coefficient", float(value))
+
+
+@dataclass(frozen=True)
 class BallSpec:
     """A ball: size, mass and material, all SI.
 
@@ -161,6 +206,8 @@ class BallSpec:
         mass: total mass, kg (6.93 oz = 0.19646 kg).
         material: the (homogeneous) material of the ball.
         description: one line for reports.
+        hourglass: the hourglass control of the ball's hexes when the model names one (None:
+            the test's, by default the solver's viscous IHQ 1, QH 0.1).
 
     Raises:
         SpecError: empty name, circumference not in (0, 1] m, mass not in (0, 10] kg.
@@ -171,6 +218,7 @@ class BallSpec:
     mass: float
     material: MaterialSpec
     description: str = ""
+    hourglass: BallHourglass | None = None
 
     def __post_init__(self) -> None:
         check_name("name", self.name)
@@ -178,6 +226,8 @@ class BallSpec:
         _check_range("mass", self.mass, MAX_MASS, "oz")
         if not isinstance(self.material, MaterialSpec):
             raise SpecError("material", self.material, "a MaterialSpec")
+        if self.hourglass is not None and not isinstance(self.hourglass, BallHourglass):
+            raise SpecError("hourglass", self.hourglass, "a BallHourglass or None")
 
     @property
     def radius(self) -> float:
@@ -328,7 +378,24 @@ def _build_ball_spec(document: Mapping[str, Any]) -> BallSpec:
         mass=quantities["mass"],
         material=material,
         description=description,
+        hourglass=hourglass_from_dict(document["hourglass"]) if "hourglass" in document else None,
     )
+
+
+def hourglass_from_dict(table: object, *, field: str = "hourglass") -> BallHourglass:
+    """A :class:`BallHourglass` from the ``[hourglass]`` table ``{type = 4, coefficient = 0.01}``.
+
+    Raises:
+        SpecError: naming ``<field>.<key>`` for a missing, unknown or invalid entry.
+    """
+    if not isinstance(table, Mapping):
+        raise SpecError(field, table, "a table with type and coefficient")
+    _reject_unknown_keys(table, ["type", "coefficient"], prefix=f"{field}.")
+    return BallHourglass(
+        type=_required(table, "type", field=f"{field}.type", allowed="an LS-DYNA IHQ, 1-5"),
+        coefficient=_required(table, "coefficient", field=f"{field}.coefficient",
+                              allowed=f"a number 0-{MAX_HOURGLASS_COEFFICIENT}"),
+    )  # fmt: skip
 
 
 def list_embedded_balls() -> list[str]:
@@ -396,4 +463,7 @@ def ball_spec_to_toml_dict(spec: BallSpec) -> dict[str, Any]:
         "circumference": format_quantity(spec.circumference, "in", digits=_TOML_DIGITS),
         "mass": format_quantity(spec.mass, "oz", digits=_TOML_DIGITS),
         "material": material_spec_to_toml_dict(spec.material),
-    }
+        # only when the ball names one, so the keys of the balls without one stay as they were
+        **({"hourglass": {"type": spec.hourglass.type, "coefficient": spec.hourglass.coefficient}}
+           if spec.hourglass is not None else {}),
+    }  # fmt: skip

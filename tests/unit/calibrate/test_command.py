@@ -61,3 +61,34 @@ def test_bad_input_exits_2_naming_the_field(
 ) -> None:
     assert main(["calibrate", *extra, "--study", str(tmp_path / "s.db"), *TINY]) == 2
     assert field in capsys.readouterr().err
+
+
+def test_the_hourglass_form_is_calibrated_as_part_of_the_ball(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--hourglass-type 4 --hourglass-coefficient 0.01``: every run of the fit uses the
+    stiffness form (its own run keys), the report names it, and the saved ball carries it, so a
+    later test runs the model that was fitted."""
+    import dataclasses
+
+    from batball.calibrate.evaluate import RunRequest
+    from batball.specs import BallHourglass
+
+    saved = tmp_path / "fitted.toml"
+    args = ["calibrate", "--ball", "type2", "--free", "g0", "--study", str(tmp_path / "s.db"),
+            "--hourglass-type", "4", "--hourglass-coefficient", "0.01"]  # fmt: skip
+    assert main([*args, *TINY, "--save", str(saved)]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["hourglass"] == {"type": 4, "coefficient": 0.01}
+    fitted = load_ball_spec(saved)
+    assert fitted.hourglass == BallHourglass(4, 0.01)
+    assert main(["ccor", "--ball", str(saved), "--divisions", "4", "--json",
+                 "--runs-dir", str(tmp_path / "runs")]) == 0  # fmt: skip
+    assert json.loads(capsys.readouterr().out)["hourglass_type"] == 4
+    plain = load_ball_spec("type2")
+    request = RunRequest(plain, "ccor", 42.5, 4)
+    assert "hourglass" not in request.inputs()  # the stores of plain balls keep their keys
+    stiff = RunRequest(
+        dataclasses.replace(plain, hourglass=BallHourglass(4, 0.01)), "ccor", 42.5, 4
+    )
+    assert stiff.key != request.key

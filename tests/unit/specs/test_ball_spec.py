@@ -12,6 +12,7 @@ import pytest
 
 from batball.errors import SpecError
 from batball.specs import (
+    BallHourglass,
     BallSpec,
     MaterialSpec,
     ball_spec_from_dict,
@@ -205,3 +206,38 @@ def test_dataclasses_validate_when_built_directly() -> None:
     material = MaterialSpec(law="elastic", values={"youngs_modulus": 1e7, "poissons_ratio": 0.3})
     with pytest.raises(SpecError, match="mass"):
         BallSpec(name="b", circumference=0.3, mass=0.0, material=material)
+
+
+def test_a_ball_may_name_its_hourglass_control_and_it_round_trips() -> None:
+    """The [hourglass] table is part of the ball's model; a ball without one writes none, so
+    the run keys of the balls that name none are what they were."""
+    document = _valid_document()
+    assert "hourglass" not in ball_spec_to_toml_dict(ball_spec_from_dict(document, source="t"))
+    document["hourglass"] = {"type": 4, "coefficient": 0.01}
+    ball = ball_spec_from_dict(document, source="test")
+    assert ball.hourglass == BallHourglass(type=4, coefficient=0.01)
+    written = ball_spec_to_toml_dict(ball)
+    assert written["hourglass"] == {"type": 4, "coefficient": 0.01}
+    assert ball_spec_from_dict(written, source="round trip") == ball
+
+
+@pytest.mark.parametrize(
+    ("table", "field"),
+    [
+        ({"type": 6, "coefficient": 0.01}, "hourglass.type"),
+        ({"type": 4.0, "coefficient": 0.01}, "hourglass.type"),  # an IHQ is an integer
+        ({"type": "4", "coefficient": 0.01}, "hourglass.type"),
+        ({"type": 4, "coefficient": -0.01}, "hourglass.coefficient"),
+        ({"type": 4, "coefficient": 0.6}, "hourglass.coefficient"),
+        ({"type": 4, "coefficient": "0.01"}, "hourglass.coefficient"),
+        ({"type": 4}, "hourglass.coefficient"),
+        ({"type": 4, "coefficient": 0.01, "qb": 0.1}, "hourglass.qb"),
+        ("IHQ 4", "hourglass"),
+    ],
+)
+def test_a_bad_hourglass_table_is_refused_naming_the_field(table: Any, field: str) -> None:
+    document = _valid_document()
+    document["hourglass"] = table
+    error = _error_for(document)
+    assert error.field == field
+    assert str(error).startswith(f"{field}: ")
