@@ -102,11 +102,16 @@ def test_fit_bat_to_hoop_recovers_a_braid_and_stores_its_evaluations(tmp_path: P
     evaluation per modal analysis."""
     import math
 
-    from batball.calibrate.bat_fit import DEFAULT_HOOP_FREE, FreeParameter, HoopTargets, MeshOptions
+    from batball.calibrate.bat_fit import (
+        DEFAULT_HOOP_FREE,
+        FreeParameter,
+        MeshOptions,
+        ModalTargets,
+    )
 
     braid = FreeParameter.parse(DEFAULT_HOOP_FREE[0])
     truth = braid.apply(load_bat_spec("default"), math.radians(40.0))
-    hoop = HoopTargets().achieved(truth, MeshOptions(16, 0.5 * 0.0254))
+    hoop = ModalTargets().achieved(truth, MeshOptions(16, 0.5 * 0.0254))
     output = tmp_path / "fitted.toml"
     args = ["fit-bat", "--to", "hoop", "--hoop", *(f"{f!r} Hz" for f in hoop), "--json",
             "--output", str(output), "--runs-dir", str(tmp_path / "runs"),
@@ -120,3 +125,28 @@ def test_fit_bat_to_hoop_recovers_a_braid_and_stores_its_evaluations(tmp_path: P
     assert math.degrees(braid.value(load_bat_spec(output))) == pytest.approx(40.0, abs=0.01)
     stored = list((tmp_path / "runs").glob("fit-hoop-*/summary.json"))
     assert len(stored) == summary["n_evaluations"]
+
+
+def test_fit_bat_sensitivity_reports_what_the_joint_targets_pin(tmp_path: Path, capsys) -> None:
+    """`--to joint --sensitivity` on a coarse bat (three modal analyses, ~10 s): the weight's
+    entry for the end cap is the closed form, the spread over the resolution (1 oz of spread
+    against Table 1's 0.1-oz resolution: 10 resolutions per spread), a braid angle moves no
+    mass, and the report names every combination and posterior ratio. Bad spreads exit 2."""
+    base = ["fit-bat", "--to", "joint", "--sensitivity", "--free", "lumped_mass:endcap",
+            "--free", "angle:barrel-carbon", "--circumferential", "16", "--axial-size", "0.5 in",
+            "--runs-dir", str(tmp_path / "runs")]  # fmt: skip
+    code, out, _ = run_cli([*base, "--spread", "lumped_mass:endcap=1 oz", "--json"], capsys)
+    assert code == 0
+    report = json.loads(out)
+    weight = report["jacobian"]["weight_oz"]
+    assert weight["lumped_mass:endcap"] == pytest.approx(10.0, rel=1e-3)
+    assert weight["angle:barrel-carbon"] == 0.0
+    assert report["spread"] == {"lumped_mass:endcap": "1 oz", "angle:barrel-carbon": "5 deg"}
+    assert len(report["combinations"]) == 2
+    assert all(0.0 < r < 1.0 for r in report["posterior_ratio"].values())
+    assert run_cli([*base[:-2], "--runs-dir", str(tmp_path / "runs")], capsys)[0] == 0  # text
+    for bad in ("lumped_mass:knob=1 oz", "lumped_mass:endcap=-1 oz", "angle:barrel-carbon=5"):
+        code, _, err = run_cli([*base, "--spread", bad], capsys)
+        assert code == 2 and "spread" in err
+    code, _, err = run_cli(["fit-bat", "--to", "hoop", "--sensitivity"], capsys)
+    assert code == 2 and "sensitivity" in err

@@ -13,7 +13,7 @@ barrel-2+barrel-3+endcap`` changes the labelled plies of those four parts only (
 the insert's layup). A braid laid on a mandrel of varying diameter changes its angle with the
 diameter, so the barrel's braid angle need not be the taper's.
 
-Two kinds of target (:class:`MassTargets`, :class:`HoopTargets`); the residuals are relative
+Two kinds of target (:class:`MassTargets`, :class:`ModalTargets`); the residuals are relative
 misfits, and :func:`scipy.optimize.least_squares` (trust-region reflective; bounds keep masses
 >= 0, plies thicker than 0.001 in and angles within 0..90 deg) drives them to zero when as many
 parameters as targets are free, or to their least squares when fewer are. Each evaluation
@@ -57,7 +57,7 @@ PARAMETER_KINDS: dict[str, ParameterKind] = {
 }
 
 #: Relative misfit below which a mass-property target counts as met (as many parameters as
-#: targets); a hoop target's is :attr:`HoopTargets.match`.
+#: targets); a hoop target's is :attr:`ModalTargets.match`.
 MATCH_TOLERANCE = 1e-6
 
 #: The parameters ``batball fit-bat`` frees by default on the embedded bat, per target kind:
@@ -65,6 +65,10 @@ MATCH_TOLERANCE = 1e-6
 #: modes take the braid angle of the barrel's carbon on the full-diameter parts.
 DEFAULT_FREE = ("lumped_mass:endcap", "thickness:handle-glass", "thickness:barrel-carbon")
 DEFAULT_HOOP_FREE = ("angle:barrel-carbon@barrel-1+barrel-2+barrel-3+endcap",)
+#: ... and the joint fit (Table 1 with Table 3's four frequencies) takes both, and the handle's
+#: braid angle (its 15-deg glass: knob and handle; the taper's glass is laid at 22.5 and 30).
+DEFAULT_JOINT_FREE = (*DEFAULT_FREE, *DEFAULT_HOOP_FREE,
+                      "angle:handle-glass@knob+handle-1+handle-2+handle-3")  # fmt: skip
 
 _FREE_TEXT = ("lumped_mass:<part>, thickness:<ply label>[@<part>+...] or "
               "angle:<ply label>[@<part>+...]")
@@ -260,15 +264,24 @@ def seed_hoop_hz() -> tuple[float, ...]:
     return (modal.hoop_1_exp, modal.hoop_2_exp)
 
 
+def seed_bending_hz() -> tuple[float, ...]:
+    """Seed Table 3's measured free-free bending frequencies, Hz."""
+    from batball.specs.seed import load_seed_tables
+
+    modal = load_seed_tables().modal
+    return (modal.bending_1_exp, modal.bending_2_exp)
+
+
 @dataclass(frozen=True)
-class HoopTargets:
-    """Measured free-free hoop (n = 2 ovalling) frequencies of the barrel to match, Hz.
+class ModalTargets:
+    """Measured free-free frequencies to match, Hz: the barrel's hoop (n = 2 ovalling) modes
+    and, optionally, the bat's bending modes, all from one modal analysis.
 
     Each evaluation is a modal analysis (:func:`batball.lab.modal.bat_modes`, ``n_modes``
-    lowest, ``insert`` model); the k-th target is the k-th distinct hoop frequency. With
-    ``runs_dir`` each evaluation's frequencies are stored under ``runs_dir/fit-hoop-<hash>/``,
-    so an interrupted fit run again replays the finished ones instead of recomputing them
-    (``reuse=False`` recomputes and overwrites them).
+    lowest, ``insert`` model); the k-th hoop (bending) target is the k-th distinct hoop
+    (bending) frequency. With ``runs_dir`` each evaluation's frequencies are stored under
+    ``runs_dir/fit-hoop-<hash>/``, so an interrupted fit run again replays the finished ones
+    instead of recomputing them (``reuse=False`` recomputes and overwrites them).
 
     The frequencies carry a noise of about 5e-6 (relative) from the pre-stress solve's contact
     set, a few mHz: the finite-difference step (1e-3 of the parameter, 0.03 deg of a 30-deg
@@ -279,6 +292,7 @@ class HoopTargets:
     """
 
     hoop_hz: tuple[float, ...] = dataclasses.field(default_factory=seed_hoop_hz)
+    bending_hz: tuple[float, ...] = ()
     insert: str = "contact"
     n_modes: int = 30
     runs_dir: Path | None = None
@@ -287,19 +301,25 @@ class HoopTargets:
     tolerance: float = 1e-4
     match: float = 1e-4
 
-    description = "hoop frequencies"
-
     def __post_init__(self) -> None:
         if not self.hoop_hz or not all(math.isfinite(f) and f > 0.0 for f in self.hoop_hz):
             raise SpecError("hoop", list(self.hoop_hz), "one or more positive frequencies")
+        if not all(math.isfinite(f) and f > 0.0 for f in self.bending_hz):
+            raise SpecError("bending", list(self.bending_hz), "positive frequencies")
+
+    @property
+    def description(self) -> str:
+        return "bending and hoop frequencies" if self.bending_hz else "hoop frequencies"
 
     @property
     def names(self) -> tuple[str, ...]:
-        return tuple(f"hoop_{k + 1}_hz" for k in range(len(self.hoop_hz)))
+        return tuple(f"bending_{k + 1}_hz" for k in range(len(self.bending_hz))) + tuple(
+            f"hoop_{k + 1}_hz" for k in range(len(self.hoop_hz))
+        )
 
     @property
     def wanted(self) -> tuple[float, ...]:
-        return self.hoop_hz
+        return self.bending_hz + self.hoop_hz
 
     def achieved(self, spec: BatSpec, mesh: MeshOptions) -> tuple[float, ...]:
         from batball.results.store import load_cached_summary, run_folder, write_summary
@@ -309,23 +329,98 @@ class HoopTargets:
         folder = None
         if self.runs_dir is not None:
             inputs = {"bat": bat_spec_to_toml_dict(spec), "mesh": dataclasses.asdict(mesh),
-                      "n_modes": self.n_modes, "insert": self.insert, "batball": __version__}
+                      "n_modes": self.n_modes, "insert": self.insert, "batball": __version__,
+                      **({"bending": len(self.bending_hz)} if self.bending_hz else {})}
             folder = run_folder(self.runs_dir, "fit-hoop", inputs)
             cached = load_cached_summary(folder) if self.reuse else None
             if cached is not None:
-                return tuple(cached["hoop_hz"])
+                return tuple(cached.get("bending_hz", [])) + tuple(cached["hoop_hz"])
         modes = bat_modes(spec, circumferential=mesh.circumferential,
                           axial_size=mesh.axial_size, n_modes=self.n_modes, insert=self.insert)
-        found = modes.first("hoop", len(self.hoop_hz))
-        if len(found) < len(self.hoop_hz):
-            raise SimulationError(
-                f"fit-bat: bat {spec.name!r} has {len(found)} distinct hoop modes among its "
-                f"{self.n_modes} lowest, {len(self.hoop_hz)} wanted; ask for more modes"
-            )
-        hoop = tuple(float(modes.frequencies[i]) for i in found)
+        found = {label: self._found(modes, spec, label, len(wanted))
+                 for label, wanted in (("bending", self.bending_hz), ("hoop", self.hoop_hz))}
         if folder is not None:
-            write_summary(folder, {"bat": spec.name, "hoop_hz": list(hoop)})
-        return hoop
+            write_summary(folder, {"bat": spec.name, "hoop_hz": list(found["hoop"]),
+                                   **({"bending_hz": list(found["bending"])}
+                                      if self.bending_hz else {})})  # fmt: skip
+        return found["bending"] + found["hoop"]
+
+    def _found(self, modes: Any, spec: BatSpec, label: str, count: int) -> tuple[float, ...]:
+        """The ``count`` lowest distinct ``label`` frequencies, or SimulationError."""
+        if count == 0:
+            return ()
+        found = modes.first(label, count)
+        if len(found) < count:
+            raise SimulationError(
+                f"fit-bat: bat {spec.name!r} has {len(found)} distinct {label} modes among its "
+                f"{self.n_modes} lowest, {count} wanted; ask for more modes"
+            )
+        return tuple(float(modes.frequencies[i]) for i in found)
+
+
+#: Measurement resolution (one standard deviation, relative) assumed for Table 1 and Table 3
+#: when they are fitted together; the seed states none. Weight 0.1 oz of 22.1 (a scale's
+#: reading), balance point 0.1 in of 21 (a knife edge), MOI 1 % (the swing-weight pendulum's
+#: repeatability, ASTM F2398), free-free frequencies 1 % (the bat-to-bat and support spread,
+#: larger than a hammer test's frequency resolution).
+JOINT_RESOLUTION = {
+    "weight_oz": 0.1 / 22.1, "balance_point_in": 0.1 / 21.0, "moi_pivot_oz_in2": 0.01,
+    "bending_1_hz": 0.01, "bending_2_hz": 0.01, "hoop_1_hz": 0.01, "hoop_2_hz": 0.01,
+}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class JointTargets:
+    """Several target sets matched together (Table 1's mass properties with Table 3's
+    frequencies), each target weighted by its measurement resolution.
+
+    Attributes:
+        parts: the target sets, evaluated in turn on the same bat.
+        resolution: one relative standard deviation per target (``names`` order); the fit
+            minimises the sum of squared misfits in these units.
+    """
+
+    parts: tuple[Any, ...]
+    resolution: tuple[float, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not self.resolution:
+            missing = [n for n in self.names if n not in JOINT_RESOLUTION]
+            if missing:
+                raise SpecError("resolution", missing, "a resolution for every joint target")
+            object.__setattr__(self, "resolution", tuple(JOINT_RESOLUTION[n] for n in self.names))
+        if len(self.resolution) != len(self.names) or not all(
+            math.isfinite(r) and r > 0.0 for r in self.resolution
+        ):
+            raise SpecError("resolution", list(self.resolution),
+                            f"{len(self.names)} positive relative resolutions")  # fmt: skip
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(n for part in self.parts for n in part.names)
+
+    @property
+    def wanted(self) -> tuple[float, ...]:
+        return tuple(w for part in self.parts for w in part.wanted)
+
+    @property
+    def description(self) -> str:
+        return " and ".join(part.description for part in self.parts)
+
+    @property
+    def diff_step(self) -> float:
+        return max(part.diff_step for part in self.parts)
+
+    @property
+    def tolerance(self) -> float:
+        return max(part.tolerance for part in self.parts)
+
+    @property
+    def match(self) -> float:
+        return max(part.match for part in self.parts)
+
+    def achieved(self, spec: BatSpec, mesh: MeshOptions) -> tuple[float, ...]:
+        return tuple(v for part in self.parts for v in part.achieved(spec, mesh))
 
 
 @dataclass(frozen=True)
@@ -342,6 +437,8 @@ class BatFit:
         n_evaluations: target evaluations used (a repeated point counted once).
         success: the optimiser's verdict.
         match: relative misfit below which a target counts as met.
+        regularised: the fit weighed the parameters' distances from their starts (a least-
+            squares fit whatever the counts).
     """
 
     spec: BatSpec
@@ -353,11 +450,13 @@ class BatFit:
     n_evaluations: int
     success: bool
     match: float = MATCH_TOLERANCE
+    regularised: bool = False
 
     @property
     def least_squares(self) -> bool:
-        """Fewer parameters than targets: the fit minimises the misfits, it cannot zero them."""
-        return len(self.parameters) < len(self.residuals)
+        """Fewer parameters than targets, or a regularised fit: the fit minimises the misfits,
+        it cannot zero them."""
+        return self.regularised or len(self.parameters) < len(self.residuals)
 
     @property
     def at_bound(self) -> tuple[FreeParameter, ...]:
@@ -386,8 +485,14 @@ def fit_bat(
     *,
     circumferential: int = DEFAULT_CIRCUMFERENTIAL,
     axial_size: float = DEFAULT_AXIAL_SIZE,
+    prior_sd: tuple[float, ...] | None = None,
 ) -> BatFit:
     """Adjust ``parameters`` of ``spec`` so its ``targets`` match (least squares).
+
+    Targets with a ``resolution`` (:class:`JointTargets`) weigh each misfit by it. With
+    ``prior_sd`` (SI, one per parameter: its plausible spread) the fit is regularised: each
+    parameter's distance from its value in ``spec``, in those spreads, is one more residual (the
+    most probable bat under a Gaussian prior around ``spec`` and Gaussian measurement errors).
 
     Raises:
         SpecError: an unknown part or label, or a fit that leaves the bat invalid.
@@ -405,6 +510,10 @@ def fit_bat(
     lower = np.array([k.lower for k in kinds]) / scale
     upper = np.array([k.upper for k in kinds]) / scale
     wanted = np.asarray(targets.wanted, dtype=float)
+    weight = 1.0 / np.asarray(getattr(targets, "resolution", None) or np.ones(wanted.size))
+    prior = None if prior_sd is None else np.asarray(prior_sd, dtype=float)
+    if prior is not None and (prior.shape != initial.shape or not np.all(prior > 0.0)):
+        raise SpecError("prior", list(prior_sd or ()), f"{initial.size} positive spreads")
     seen: dict[bytes, tuple[float, ...]] = {}
 
     def with_values(scaled: np.ndarray) -> BatSpec:
@@ -420,7 +529,11 @@ def fit_bat(
         return seen[key]
 
     def misfit(scaled: np.ndarray) -> np.ndarray:
-        return np.asarray(achieved(scaled)) / wanted - 1.0
+        relative = (np.asarray(achieved(scaled)) / wanted - 1.0) * weight
+        if prior is None:
+            return relative
+        # the regularisation: each parameter's distance from its start in prior spreads
+        return np.concatenate([relative, (scaled * scale - initial) / prior])
 
     start = np.clip(initial / scale, lower, upper)
     tol = targets.tolerance
@@ -432,7 +545,7 @@ def fit_bat(
         spec=with_values(result.x), parameters=parameters, initial=tuple(initial.tolist()),
         values=tuple(values.tolist()), achieved=final,
         residuals=tuple((np.asarray(final) / wanted - 1.0).tolist()), n_evaluations=len(seen),
-        success=bool(result.success), match=targets.match,
+        success=bool(result.success), match=targets.match, regularised=prior is not None,
     )  # fmt: skip
 
 

@@ -37,10 +37,27 @@ def add_fit_bat_parser(sub: Any) -> None:
     add_bat_mesh_options(p)
     p.add_argument(
         "--to",
-        choices=("mass", "hoop"),
+        choices=("mass", "hoop", "joint"),
         default="mass",
-        help="what to match: mass (weight, balance point, MOI; seed Table 1) or hoop (the "
-        "first two hoop frequencies of the free-free modal test, insert as contact; Table 3)",
+        help="what to match: mass (weight, balance point, MOI; seed Table 1), hoop (the "
+        "first two hoop frequencies of the free-free modal test, insert as contact; Table 3) or "
+        "joint (Table 1 and Table 3's two bending and two hoop frequencies together, each "
+        "weighted by its measurement resolution, regularised by each parameter's spread)",
+    )
+    p.add_argument(
+        "--spread",
+        action="append",
+        default=[],
+        help="NAME=VALUE: a free parameter's plausible spread (one standard deviation) with its "
+        "unit, e.g. 'lumped_mass:endcap=0.5 oz'; repeat (default: 5 deg for an angle, 15 %% of "
+        "a thickness, 0.5 oz for a lumped mass); used by --to joint and --sensitivity",
+    )
+    p.add_argument(
+        "--sensitivity",
+        action="store_true",
+        help="instead of fitting, report what the targets pin: the Jacobian in resolutions per "
+        "spread, its singular values and parameter combinations, and each parameter's "
+        "posterior spread over its prior spread",
     )
     p.add_argument(
         "--free",
@@ -48,7 +65,8 @@ def add_fit_bat_parser(sub: Any) -> None:
         help="a parameter to adjust: lumped_mass:<part>, thickness:<ply label>[@<part>+...] or "
         "angle:<ply label>[@<part>+...]; repeat it (default for --to mass: lumped_mass:endcap, "
         "thickness:handle-glass, thickness:barrel-carbon; for --to hoop: "
-        "angle:barrel-carbon@barrel-1+barrel-2+barrel-3+endcap)",
+        "angle:barrel-carbon@barrel-1+barrel-2+barrel-3+endcap; for --to joint: those four "
+        "and angle:handle-glass@knob+handle-1+handle-2+handle-3)",
     )
     p.add_argument("--weight", default="22.1 oz", help="target weight (seed Table 1: 22.1 oz)")
     p.add_argument(
@@ -73,16 +91,16 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
     from batball.calibrate.bat_fit import (
         DEFAULT_FREE,
         DEFAULT_HOOP_FREE,
+        DEFAULT_JOINT_FREE,
         FreeParameter,
-        HoopTargets,
-        MassTargets,
+        MeshOptions,
         fit_bat,
         fit_summary,
         write_fitted_bat,
     )
+    from batball.calibrate.bat_sensitivity import bat_sensitivity
     from batball.results.store import check_output_file, check_output_folder
     from batball.specs import load_bat_spec
-    from batball.units import parse_quantity
 
     spec = load_bat_spec(args.bat)
     options = bat_mesh_options(args)
@@ -90,27 +108,88 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
     if args.output is not None:
         check_output_file("output", args.output)
     check_output_folder("runs-dir", args.runs_dir)
-    hoop = tuple(parse_quantity(text, "frequency", field="hoop") for text in args.hoop)
-    if not all(f > 0 for f in hoop) or list(hoop) != sorted(set(hoop)):
-        raise SpecError("hoop", " ".join(args.hoop), "positive frequencies, lowest first")
-    targets: MassTargets | HoopTargets
-    if args.to == "mass":
-        targets = MassTargets(
-            weight=parse_quantity(args.weight, "mass", field="weight"),
-            balance_point=parse_quantity(args.balance_point, "length", field="balance-point"),
-            moi_pivot=parse_quantity(args.moi, "moment_of_inertia", field="moi"),
-            pivot=pivot,
-        )
-    else:
-        targets = HoopTargets(hoop_hz=hoop, runs_dir=args.runs_dir, reuse=not args.no_reuse)
-    default_free = DEFAULT_FREE if args.to == "mass" else DEFAULT_HOOP_FREE
-    free = tuple(FreeParameter.parse(text) for text in (args.free or default_free))
-    fit = fit_bat(spec, targets, free, **options)
+    targets = fit_targets(args, pivot)
+    default_free = {"mass": DEFAULT_FREE, "hoop": DEFAULT_HOOP_FREE, "joint": DEFAULT_JOINT_FREE}
+    free = tuple(FreeParameter.parse(text) for text in (args.free or default_free[args.to]))
+    spreads = parameter_spreads(args.spread, free, spec)
+    if args.sensitivity:
+        if args.to != "joint":
+            raise SpecError("sensitivity", f"--to {args.to}", "--to joint (targets with "
+                            "resolutions)")  # fmt: skip
+        found = bat_sensitivity(spec, targets, free, spread=spreads, mesh=MeshOptions(**options))
+        report = {"bat": spec.name, "targets": targets.description, **found.summary()}
+        print(json.dumps(report, indent=2) if args.json else describe_sensitivity(report))
+        return 0
+    prior = spreads if args.to == "joint" else None
+    fit = fit_bat(spec, targets, free, **options, prior_sd=prior)
     if args.output is not None:
         write_fitted_bat(args.output, fit)
     summary = fit_summary(fit, targets)
     print(json.dumps(summary, indent=2) if args.json else describe_fit(summary))
     return 0 if fit.matched else 1
+
+
+def fit_targets(args: argparse.Namespace, pivot: float) -> Any:
+    """The targets of ``--to``: mass, hoop or both with the bending frequencies (joint)."""
+    from batball.calibrate.bat_fit import JointTargets, MassTargets, ModalTargets, seed_bending_hz
+    from batball.units import parse_quantity
+
+    hoop = tuple(parse_quantity(text, "frequency", field="hoop") for text in args.hoop)
+    if not all(f > 0 for f in hoop) or list(hoop) != sorted(set(hoop)):
+        raise SpecError("hoop", " ".join(args.hoop), "positive frequencies, lowest first")
+    mass = MassTargets(
+        weight=parse_quantity(args.weight, "mass", field="weight"),
+        balance_point=parse_quantity(args.balance_point, "length", field="balance-point"),
+        moi_pivot=parse_quantity(args.moi, "moment_of_inertia", field="moi"),
+        pivot=pivot,
+    )
+    store = {"runs_dir": args.runs_dir, "reuse": not args.no_reuse}
+    if args.to == "mass":
+        return mass
+    if args.to == "hoop":
+        return ModalTargets(hoop_hz=hoop, **store)
+    return JointTargets((mass, ModalTargets(hoop_hz=hoop, bending_hz=seed_bending_hz(), **store)))
+
+
+def parameter_spreads(texts: list[str], free: tuple[Any, ...], spec: Any) -> tuple[float, ...]:
+    """Each free parameter's spread: ``--spread NAME=VALUE`` or its default."""
+    from batball.calibrate.bat_fit import PARAMETER_KINDS
+    from batball.calibrate.bat_sensitivity import default_spread
+    from batball.specs.bat import parse_angle
+    from batball.units import parse_quantity
+
+    def parse(kind: str, value: str) -> float:
+        if kind == "angle":
+            return parse_angle(value, field="spread")
+        return parse_quantity(value, "mass" if kind == "lumped_mass" else "length", field="spread")
+
+    given: dict[str, float] = {}
+    names = [str(p) for p in free]
+    for text in texts:
+        name, _, value = text.rpartition("=")
+        if name not in names:
+            raise SpecError("spread", text, f"NAME=VALUE with NAME one of {', '.join(names)}")
+        kind = free[names.index(name)].kind
+        unit = PARAMETER_KINDS[kind].unit
+        given[name] = parse(kind, value)
+        if not given[name] > 0.0:
+            raise SpecError("spread", text, f"a positive spread, e.g. '{name}=1 {unit}'")
+    return tuple(given.get(str(p), default_spread(p, spec)) for p in free)
+
+
+def describe_sensitivity(s: dict[str, Any]) -> str:
+    """The identifiability report as text: combinations, then each parameter's ratio."""
+    lines = [f"What {s['targets']} pin on bat {s['bat']} (resolutions per spread):"]
+    for k, c in enumerate(s["combinations"], start=1):
+        weights = ", ".join(f"{w:+.2f} {p}" for p, w in c["parameters"].items() if abs(w) >= 0.1)
+        moved = ", ".join(f"{n} {v:+.2f}" for n, v in c["moves_targets"].items()
+                          if abs(v) >= 0.1)  # fmt: skip
+        lines.append(f"  {k}. singular value {c['singular_value']:.3g}: {weights}")
+        lines.append(f"     moves {moved or 'no target by 0.1 resolution'}")
+    lines.append("  posterior spread / prior spread (1: the targets say nothing about it):")
+    for p, ratio in s["posterior_ratio"].items():
+        lines.append(f"    {p:<52} {ratio:.3f}  (spread {s['spread'][p]})")
+    return "\n".join(lines)
 
 
 def describe_fit(s: dict[str, Any]) -> str:

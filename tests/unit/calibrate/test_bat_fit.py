@@ -11,9 +11,9 @@ from batball.calibrate.bat_fit import (
     MATCH_TOLERANCE,
     BatFit,
     FreeParameter,
-    HoopTargets,
     MassTargets,
     MeshOptions,
+    ModalTargets,
     fit_bat,
 )
 from batball.errors import SpecError
@@ -98,7 +98,7 @@ def test_part_restrictions_are_checked() -> None:
 def test_hoop_fit_recovers_the_braid_a_bat_was_built_with(tmp_path, monkeypatch) -> None:
     """Coarse bat (16 x 0.5 in, ~3.5 s per modal analysis): the hoop frequencies of a bat with a
     40-deg barrel braid, fitted from 30 deg, give back 40 deg to 0.01 deg (the fit stops at
-    steps of 0.003 deg, HoopTargets) and both frequencies to 1e-4 (0.15 Hz; 0.01 deg moves them
+    steps of 0.003 deg, ModalTargets) and both frequencies to 1e-4 (0.15 Hz; 0.01 deg moves them
     by about 0.1 Hz). Run again with the same store, the fit replays the stored evaluations: no
     modal analysis at all."""
     import batball.calibrate.bat_fit as bat_fit
@@ -106,8 +106,8 @@ def test_hoop_fit_recovers_the_braid_a_bat_was_built_with(tmp_path, monkeypatch)
     coarse = {"circumferential": 16, "axial_size": 0.5 * IN}
     braid = FreeParameter.parse(BARREL_BRAID)
     truth = braid.apply(load_bat_spec("default"), math.radians(40.0))
-    wanted = HoopTargets().achieved(truth, MeshOptions(**coarse))
-    targets = HoopTargets(hoop_hz=wanted, runs_dir=tmp_path)
+    wanted = ModalTargets().achieved(truth, MeshOptions(**coarse))
+    targets = ModalTargets(hoop_hz=wanted, runs_dir=tmp_path)
     start = load_bat_spec("default")
     fit = fit_bat(start, targets, (braid,), **coarse)
     assert fit.success and fit.least_squares and fit.matched
@@ -134,7 +134,7 @@ def test_the_shipped_fitted_bat_is_the_default_with_a_wider_barrel_braid() -> No
 
 
 def test_an_exact_fit_is_met_within_its_targets_match_tolerance() -> None:
-    """One hoop frequency, one braid: met when within HoopTargets.match (1e-4, 0.15 Hz), which
+    """One hoop frequency, one braid: met when within ModalTargets.match (1e-4, 0.15 Hz), which
     a mass-property fit's 1e-6 would refuse; a least-squares fit is met unless a bound stops it."""
     spec = load_bat_spec("default")
     braid = FreeParameter.parse(BARREL_BRAID)
@@ -144,9 +144,95 @@ def test_an_exact_fit_is_met_within_its_targets_match_tolerance() -> None:
                       achieved=residuals, residuals=residuals, n_evaluations=3, success=True,
                       match=match)  # fmt: skip
 
-    assert HoopTargets().match == 1e-4 and MassTargets(1.0, 1.0, 1.0).match == 1e-6
-    assert outcome((5e-5,), HoopTargets().match).matched
+    assert ModalTargets().match == 1e-4 and MassTargets(1.0, 1.0, 1.0).match == 1e-6
+    assert outcome((5e-5,), ModalTargets().match).matched
     assert not outcome((5e-5,), MATCH_TOLERANCE).matched
-    assert outcome((5e-3, -4e-3), HoopTargets().match).matched  # least squares
-    at_90 = outcome((5e-3, -4e-3), HoopTargets().match, value=0.5 * math.pi)
+    assert outcome((5e-3, -4e-3), ModalTargets().match).matched  # least squares
+    at_90 = outcome((5e-3, -4e-3), ModalTargets().match, value=0.5 * math.pi)
     assert at_90.at_bound == (braid,) and not at_90.matched
+
+
+@dataclasses.dataclass(frozen=True)
+class WeightOnly:
+    """A one-target set: the bat's weight, with a relative resolution (linear in any lumped
+    mass, so the regularised fit and the sensitivity have closed forms)."""
+
+    weight: float
+    resolution: tuple[float, ...] = (0.01,)
+    names = ("weight_oz",)
+    description = "weight"
+    diff_step = 1e-7
+    tolerance = 1e-12
+    match = MATCH_TOLERANCE
+
+    @property
+    def wanted(self) -> tuple[float, ...]:
+        return (self.weight / OZ,)
+
+    def achieved(self, spec, mesh) -> tuple[float, ...]:
+        props, _ = bat_mass_properties(spec, circumferential=mesh.circumferential,
+                                       axial_size=mesh.axial_size)  # fmt: skip
+        return (props.mass / OZ,)
+
+
+def test_a_regularised_fit_lands_where_the_prior_and_the_resolution_put_it() -> None:
+    """Weight W0 + dm against a measured Wt of resolution r (relative), the end cap's mass with
+    a prior spread sd: the most probable dm = (Wt - W0) sd^2 / (sd^2 + (r Wt)^2), the product of
+    two Gaussians. Three cases: a loose prior (the data win), equal spreads (halfway), a tight
+    prior (the start wins)."""
+    spec = load_bat_spec("default")
+    props, _ = bat_mass_properties(spec, **COARSE)
+    endcap = (FreeParameter.parse("lumped_mass:endcap"),)
+    wt = props.mass + 0.4 * OZ
+    targets = WeightOnly(weight=wt)
+    sigma = 0.01 * wt
+    for sd in (10.0 * sigma, sigma, 0.1 * sigma):
+        fit = fit_bat(spec, targets, endcap, **COARSE, prior_sd=(sd,))
+        expected = 0.4 * OZ * sd**2 / (sd**2 + sigma**2)
+        assert fit.values[0] - endcap[0].value(spec) == pytest.approx(expected, rel=1e-6)
+        assert fit.least_squares and fit.regularised
+
+
+def test_the_sensitivity_of_a_linear_target_is_its_closed_form() -> None:
+    """The weight moves 1 oz per oz of end cap: one spread sd moves it sd / (r Wt) resolutions;
+    a braid angle moves no mass, so its column is zero, its singular value 0 and its posterior
+    spread its prior one; the end cap's posterior ratio is 1 / sqrt(1 + J^2)."""
+    from batball.calibrate.bat_sensitivity import bat_sensitivity
+
+    spec = load_bat_spec("default")
+    props, _ = bat_mass_properties(spec, **COARSE)
+    targets = WeightOnly(weight=props.mass)
+    free = (FreeParameter.parse("lumped_mass:endcap"), FreeParameter.parse(BARREL_BRAID))
+    sd = 0.5 * OZ
+    found = bat_sensitivity(spec, targets, free, spread=(sd, math.radians(5.0)),
+                            mesh=MeshOptions(**COARSE))  # fmt: skip
+    j = sd / (0.01 * props.mass)
+    assert found.jacobian[0, 0] == pytest.approx(j, rel=1e-9)
+    assert found.jacobian[0, 1] == 0.0
+    assert found.singular_values == pytest.approx([j, 0.0], abs=1e-9)
+    assert found.posterior_ratio == pytest.approx([1.0 / math.sqrt(1.0 + j * j), 1.0], rel=1e-9)
+    summary = found.summary()
+    assert summary["spread"]["lumped_mass:endcap"] == "0.5 oz"
+    assert summary["combinations"][0]["parameters"] == {"lumped_mass:endcap": 1.0,
+                                                        BARREL_BRAID: 0.0}  # fmt: skip
+
+
+def test_joint_targets_weigh_table_1_and_table_3_by_their_resolutions(tmp_path) -> None:
+    """The joint set is Table 1 then Table 3's bending and hoop frequencies; the modal part's
+    hoop frequencies are the hoop-only set's, and a stored evaluation is replayed."""
+    from batball.calibrate.bat_fit import JOINT_RESOLUTION, JointTargets, seed_bending_hz
+
+    spec = load_bat_spec("fitted")
+    mesh = MeshOptions(16, 0.5 * IN)
+    modal = ModalTargets(bending_hz=seed_bending_hz(), runs_dir=tmp_path)
+    joint = JointTargets((MassTargets(22.1 * OZ, 21.0 * IN, 1.0), modal))
+    assert joint.names == ("weight_oz", "balance_point_in", "moi_pivot_oz_in2", "bending_1_hz",
+                           "bending_2_hz", "hoop_1_hz", "hoop_2_hz")  # fmt: skip
+    assert joint.wanted[3:] == (146.0, 555.0, 1450.0, 1950.0)  # seed Table 3
+    assert joint.resolution == tuple(JOINT_RESOLUTION[n] for n in joint.names)
+    both = modal.achieved(spec, mesh)
+    assert both[2:] == ModalTargets().achieved(spec, mesh)
+    assert both[0] < both[1] < both[2]  # bending 1 < bending 2 < hoop 1 here
+    assert modal.achieved(spec, mesh) == both  # replayed from the store
+    with pytest.raises(SpecError, match="resolution"):
+        JointTargets((modal,), resolution=(0.01,))
