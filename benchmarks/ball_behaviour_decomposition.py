@@ -15,6 +15,13 @@ The ball sets:
 - ``mat006-fit``: the MAT_006 balls fitted to the experiment's Tables 5-8 on the 12-division ball
   (``benchmarks/calibration/type{1,2}-mat006.toml``, viscous hourglass): the seed's law fitted
   (the cylinder, the rigid bat and the flexible bats).
+- ``mat006-ihq4-fit``: the same law fitted the same way with the seed's stiffness hourglass form
+  (IHQ 4, QM 0.01) as part of the model (``benchmarks/calibration/type{1,2}-mat006-ihq4.toml``,
+  the form in the files' ``[hourglass]``): the seed's model form, fitted to the experiment (the
+  cylinder, the rigid bat and the flexible bats).
+- ``prony3-fit``: three relaxation times instead of one (``type{1,2}-prony3.toml``, fitted from
+  the MAT_006 fits; viscous hourglass): what a broader relaxation spectrum does (the cylinder and
+  the flexible bats).
 
 Each ball, at 95 and 110 mph, against four targets that give the ball more and more to share the
 collision with: the rigid half-cylinder of ASTM F2845 (the CCOR test), the model of record's bat
@@ -37,7 +44,7 @@ the contact time counts every step with a contact force; on the cylinder it is t
 
 Every run is stored in ``--runs-dir`` under its inputs: a second call reuses them (the tables are
 made again in seconds), an interrupted one resumes. Full size (12,096-hex balls, 48 x 0.1 in
-shells) is 64 runs, about an hour on 2 cores; ``--quick`` (6-division balls, 16 x 0.5 in
+shells) is 92 runs, about an hour and a half on 2 cores; ``--quick`` (6-division balls, 16 x 0.5 in
 shells) checks the script in a minute or two.
 """
 
@@ -67,11 +74,19 @@ BALL_SETS: dict[str, tuple[tuple[str, str], dict[str, Any]]] = {
     "seed-viscous": (("type1", "type2"), {}),
     "mat006-fit": (("benchmarks/calibration/type1-mat006.toml",
                     "benchmarks/calibration/type2-mat006.toml"), {}),
+    "mat006-ihq4-fit": (("benchmarks/calibration/type1-mat006-ihq4.toml",
+                         "benchmarks/calibration/type2-mat006-ihq4.toml"), {}),
+    "prony3-fit": (("benchmarks/calibration/type1-prony3.toml",
+                    "benchmarks/calibration/type2-prony3.toml"), {}),
 }
 #: Ball sets run on some targets only (target, bat); in Table 9 when on both flexible bats.
 PARTIAL_SETS = {"seed-viscous": (("cylinder", "fitted"), ("flexible bat", "fitted")),
                 "mat006-fit": (("cylinder", "fitted"), ("rigid bat", "fitted"),
-                               ("flexible bat", "fitted"), ("flexible bat", "default"))}
+                               ("flexible bat", "fitted"), ("flexible bat", "default")),
+                "mat006-ihq4-fit": (("cylinder", "fitted"), ("rigid bat", "fitted"),
+                                    ("flexible bat", "fitted"), ("flexible bat", "default")),
+                "prony3-fit": (("cylinder", "fitted"), ("flexible bat", "fitted"),
+                               ("flexible bat", "default"))}
 SPEEDS_MPH = (95, 110)
 TARGETS = ("cylinder", "held bat", "rigid bat", "flexible bat")
 #: The model of record's bat (the decomposition) and the reconstruction (Table 9 code to code).
