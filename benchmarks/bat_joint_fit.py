@@ -24,7 +24,9 @@ Steps, each stored under ``--runs-dir`` so that a second call replays them:
    of record's settings) for each ball: predicted cells, since no step above saw Table 9; and
    for each parameter the targets leave unpinned (posterior over prior spread above 0.5), the
    same balls' BBS at 110 mph with that parameter one spread higher: how far what Tables 1 and 3
-   cannot see moves Table 9.
+   cannot see moves Table 9; with ``--all-parameters`` every parameter's, and the bat's
+   linearised band on each 110-mph cell, sqrt(g^T C g) with C the posterior covariance of the
+   parameters in spreads (:meth:`~batball.calibrate.bat_sensitivity.Sensitivity.propagated_spread`).
 
 ``--quick`` runs it all on a 16 x 0.5 in bat to check the script (a minute or two).
 """
@@ -37,6 +39,8 @@ import json
 import time
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from batball.calibrate.bat_fit import (
     DEFAULT_JOINT_FREE,
@@ -92,6 +96,9 @@ def main() -> None:
     parser.add_argument("--json", type=Path, default=None, help="write every number here")
     parser.add_argument("--output", type=Path, default=None, help="write the fitted bat here")
     parser.add_argument("--quick", action="store_true", help="16 x 0.5 in for every step")
+    parser.add_argument("--all-parameters", action="store_true", help="with --bbs: the BBS "
+                        "gradient of every free parameter, not only the unpinned ones, and the "
+                        "bat's linearised posterior band on each 110-mph cell")  # fmt: skip
     parser.add_argument("--bbs", nargs="*", default=[], help="balls whose Table 9 to run on "
                         "the jointly fitted bat (embedded names or files)")  # fmt: skip
     args = parser.parse_args()
@@ -128,19 +135,36 @@ def main() -> None:
     if args.bbs:
         out["table9"] = table9(joint_bat, args.bbs, args.runs_dir, args.quick)
         print(json.dumps(out["table9"], indent=1), flush=True)
-        out["unpinned"] = {}
+        out["bbs_gradient"] = {}
         for p, spread in zip(free, spreads, strict=True):
-            if out["sensitivity"]["posterior_ratio"][str(p)] <= 0.5:
+            pinned = out["sensitivity"]["posterior_ratio"][str(p)] <= 0.5
+            if pinned and not args.all_parameters:
                 continue
             moved = p.apply(joint_bat, p.value(joint_bat) + spread)
             cells = table9(moved, args.bbs, args.runs_dir, args.quick, speeds=(110,))
-            out["unpinned"][str(p)] = {
+            out["bbs_gradient"][str(p)] = {
                 cell: value["bbs_mph"] - out["table9"][cell]["bbs_mph"]
                 for cell, value in cells.items()
             }
-        print(json.dumps(out["unpinned"], indent=1))
+        print(json.dumps(out["bbs_gradient"], indent=1))
+        if args.all_parameters:
+            out["bat_band_mph"] = bat_band(found, free, out["bbs_gradient"])
+            print(json.dumps(out["bat_band_mph"], indent=1))
     if args.json is not None:
         args.json.write_text(json.dumps(out, indent=1), encoding="utf-8")
+
+
+def bat_band(found: Any, free: tuple[FreeParameter, ...],
+             gradient: dict[str, dict[str, float]]) -> dict[str, dict[str, float]]:  # fmt: skip
+    """Per 110-mph cell, the BBS spread [mph, one standard deviation] that the bat's parameters
+    carry: a priori (the spreads alone) and a posteriori (after Tables 1 and 3), linearised."""
+    cells = next(iter(gradient.values())).keys()
+    band = {}
+    for cell in cells:
+        g = np.array([gradient[str(p)][cell] for p in free])
+        band[cell] = {"prior_sd_mph": float(np.linalg.norm(g)),
+                      "posterior_sd_mph": found.propagated_spread(g)}  # fmt: skip
+    return band
 
 
 def table9(bat: BatSpec, balls: list[str], runs_dir: Path, quick: bool,

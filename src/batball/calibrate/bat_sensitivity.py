@@ -85,10 +85,24 @@ class Sensitivity:
         return padded_u, np.concatenate([sv, np.zeros(n - sv.size)]), vt
 
     @property
+    def posterior_covariance(self) -> np.ndarray:
+        """The parameters' linearised posterior covariance in units of their spreads,
+        (J^T J + I)^-1: the Gaussian prior of unit spreads updated by the targets."""
+        j = self.jacobian
+        return np.linalg.inv(j.T @ j + np.eye(j.shape[1]))
+
+    @property
     def posterior_ratio(self) -> np.ndarray:
         """Each parameter's linearised posterior spread over its prior spread."""
-        j = self.jacobian
-        return np.sqrt(np.diag(np.linalg.inv(j.T @ j + np.eye(j.shape[1]))))
+        return np.sqrt(np.diag(self.posterior_covariance))
+
+    def propagated_spread(self, gradient: Sequence[float]) -> float:
+        """The linearised posterior standard deviation of a quantity that moves by
+        ``gradient[j]`` when parameter j moves by one spread: sqrt(g^T C g)."""
+        g = np.asarray(gradient, dtype=float)
+        if g.shape != (self.jacobian.shape[1],):
+            raise SpecError("gradient", list(g), f"{self.jacobian.shape[1]} values")
+        return float(np.sqrt(g @ self.posterior_covariance @ g))
 
     def misfit(self) -> np.ndarray:
         """The targets' misfits at the bat, in resolutions."""

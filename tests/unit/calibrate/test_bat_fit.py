@@ -211,6 +211,10 @@ def test_the_sensitivity_of_a_linear_target_is_its_closed_form() -> None:
     assert found.jacobian[0, 1] == 0.0
     assert found.singular_values == pytest.approx([j, 0.0], abs=1e-9)
     assert found.posterior_ratio == pytest.approx([1.0 / math.sqrt(1.0 + j * j), 1.0], rel=1e-9)
+    # a quantity j resolutions per spread of end cap: posterior sd j / sqrt(1 + j^2); one moved
+    # only by the unseen angle keeps its prior spread
+    assert found.propagated_spread([j, 0.0]) == pytest.approx(j / math.sqrt(1 + j * j), rel=1e-9)
+    assert found.propagated_spread([0.0, 2.0]) == pytest.approx(2.0, rel=1e-12)
     summary = found.summary()
     assert summary["spread"]["lumped_mass:endcap"] == "0.5 oz"
     assert summary["combinations"][0]["parameters"] == {"lumped_mass:endcap": 1.0,
