@@ -33,6 +33,7 @@ from batball.lsdyna.cards import (
 from batball.models.ball import ball_body, with_ball_hourglass
 from batball.models.compression import TRAVEL_MARGIN, CompressionSetup, build_compression_model
 from batball.models.impact import ImpactSetup, make_target
+from batball.solvers.explicit import HourglassControl
 from batball.specs import BallSpec
 from batball.units import IN, MPH
 from batball.version import __version__
@@ -146,17 +147,21 @@ def control_cards(setup: Any, end_time: float, u: UnitSystem,
                   mass_scaling_step: float | None = None) -> list[str]:  # fmt: skip
     """*CONTROL_* cards: end time, TSSFAC, hourglass, bulk viscosity and the contact SLSFAC of a
     test setup (ImpactSetup, CompressionSetup or BbsSetup); with ``mass_scaling_step`` [s,
-    TSSFAC applied], mass scaling of the elements whose step is below it (DT2MS < 0)."""
+    TSSFAC applied], mass scaling of the elements whose step is below it (DT2MS < 0).
+
+    *CONTROL_HOURGLASS carries LS-DYNA's default (IHQ 1, QH 0.1): it governs every part without
+    an HGID, which in a bat deck are the bat's shells. The ball's own control goes on its
+    *HOURGLASS (:func:`part_cards`), so a stiffness-form ball does not change the bat."""
     bv = setup.bulk_viscosity
     q1, q2 = (bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)
     step = {"dtinit": 0.0, "tssfac": setup.time_step_scale}
+    default = HourglassControl()
     if mass_scaling_step is not None:
         step["dt2ms"] = -mass_scaling_step / setup.time_step_scale / u.time
     return [
         *keyword("CONTROL_TERMINATION", {"endtim": end_time / u.time}),
         *keyword("CONTROL_TIMESTEP", step),
-        *keyword("CONTROL_HOURGLASS", {
-            "ihq": setup.hourglass.type, "qh": setup.hourglass.coefficient}),
+        *keyword("CONTROL_HOURGLASS", {"ihq": default.type, "qh": default.coefficient}),
         *keyword("CONTROL_BULK_VISCOSITY", {"q1": q1, "q2": q2, "type": 1}),
         *keyword("CONTROL_CONTACT", {"slsfac": setup.contact.slsfac}),
     ]  # fmt: skip

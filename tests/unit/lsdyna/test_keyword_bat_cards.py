@@ -144,3 +144,21 @@ def test_nodal_rigid_body_columns(bbs: dict[str, list[list[str]]]) -> None:
     )
     assert num(v["vy"]) == pytest.approx(-110 * 0.44704 / IN, rel=1e-5)  # 110 mph along -y
     assert np.isclose(num(v["vx"]), 0.0)
+
+
+def test_stiffness_form_ball_leaves_the_bat_shells_at_the_default() -> None:
+    """A ball whose model names IHQ 4 writes it on its own *HOURGLASS (HGID 1); the bat's shells
+    (no HGID) take *CONTROL_HOURGLASS, which stays at LS-DYNA's default IHQ 1, QH 0.1 (Keyword
+    Manual Vol I, *CONTROL_HOURGLASS defaults), whatever the ball."""
+    import dataclasses
+
+    from batball.specs.ball import BallHourglass
+
+    ball = dataclasses.replace(load_ball_spec("type1"),
+                               hourglass=BallHourglass(type=4, coefficient=0.01))  # fmt: skip
+    setup = BbsSetup(ball_divisions=2, pivot_band=1.0 * IN, **MESH)
+    deck = blocks(bbs_deck(load_bat_spec("default"), ball, setup))
+    hg = read(deck["HOURGLASS"][0][0], tens("hgid", "ihq", "qm"))
+    assert (int(hg["hgid"]), int(hg["ihq"]), num(hg["qm"])) == (1, 4, 0.01)
+    glob = read(deck["CONTROL_HOURGLASS"][0][0], tens("ihq", "qh"))
+    assert (int(glob["ihq"]), num(glob["qh"])) == (1, 0.1)
