@@ -10,7 +10,7 @@ end cap's mass, the handle glass and barrel carbon thicknesses, the barrel braid
 handle's braid angle, and the insert carbon's thickness and braid angle, each with its default
 plausible spread (:mod:`batball.calibrate.bat_sensitivity`). Targets: Table 1 (weight, balance
 point, MOI) and Table 3 (two bending, two hoop frequencies) with the resolutions of
-:data:`batball.calibrate.bat_fit.JOINT_RESOLUTION`.
+:func:`batball.calibrate.bat_fit.joint_resolution`.
 
 Steps, each stored under ``--runs-dir`` so that a second call replays them:
 

@@ -358,15 +358,30 @@ class ModalTargets:
         return tuple(float(modes.frequencies[i]) for i in found)
 
 
-#: Measurement resolution (one standard deviation, relative) assumed for Table 1 and Table 3
-#: when they are fitted together; the seed states none. Weight 0.1 oz of 22.1 (a scale's
-#: reading), balance point 0.1 in of 21 (a knife edge), MOI 1 % (the swing-weight pendulum's
-#: repeatability, ASTM F2398), free-free frequencies 1 % (the bat-to-bat and support spread,
-#: larger than a hammer test's frequency resolution).
-JOINT_RESOLUTION = {
-    "weight_oz": 0.1 / 22.1, "balance_point_in": 0.1 / 21.0, "moi_pivot_oz_in2": 0.01,
-    "bending_1_hz": 0.01, "bending_2_hz": 0.01, "hoop_1_hz": 0.01, "hoop_2_hz": 0.01,
-}  # fmt: skip
+#: Measurement resolution (one standard deviation) assumed for Table 1 and Table 3 when they
+#: are fitted together; the seed states none. Absolute, in the target's unit: weight 0.1 oz (a
+#: scale's reading), balance point 0.1 in (a knife edge). Relative: MOI 1 % (the swing-weight
+#: pendulum's repeatability, ASTM F2398) and every free-free frequency 1 % (the bat-to-bat and
+#: support spread, larger than a hammer test's frequency resolution).
+JOINT_ABSOLUTE_RESOLUTION = {"weight_oz": 0.1, "balance_point_in": 0.1}
+JOINT_RELATIVE_RESOLUTION = {"moi_pivot_oz_in2": 0.01, "frequency_hz": 0.01}
+
+
+def joint_resolution(name: str, wanted: float) -> float:
+    """The relative resolution of target ``name`` measured at ``wanted`` (its unit): an
+    absolute one of :data:`JOINT_ABSOLUTE_RESOLUTION` over the value, else the relative one
+    (any ``*_hz`` target is a frequency).
+
+    Raises:
+        SpecError: a target with no assumed resolution.
+    """
+    if name in JOINT_ABSOLUTE_RESOLUTION:
+        return JOINT_ABSOLUTE_RESOLUTION[name] / abs(wanted)
+    key = "frequency_hz" if name.endswith("_hz") else name
+    if key not in JOINT_RELATIVE_RESOLUTION:
+        raise SpecError("resolution", name, "a target with an assumed resolution: "
+                        "weight, balance point, MOI or a frequency")  # fmt: skip
+    return JOINT_RELATIVE_RESOLUTION[key]
 
 
 @dataclass(frozen=True)
@@ -376,8 +391,9 @@ class JointTargets:
 
     Attributes:
         parts: the target sets, evaluated in turn on the same bat.
-        resolution: one relative standard deviation per target (``names`` order); the fit
-            minimises the sum of squared misfits in these units.
+        resolution: one relative standard deviation per target (``names`` order; default
+            :func:`joint_resolution`'s); the fit minimises the sum of squared misfits in these
+            units.
     """
 
     parts: tuple[Any, ...]
@@ -385,10 +401,8 @@ class JointTargets:
 
     def __post_init__(self) -> None:
         if not self.resolution:
-            missing = [n for n in self.names if n not in JOINT_RESOLUTION]
-            if missing:
-                raise SpecError("resolution", missing, "a resolution for every joint target")
-            object.__setattr__(self, "resolution", tuple(JOINT_RESOLUTION[n] for n in self.names))
+            resolution = tuple(map(joint_resolution, self.names, self.wanted))
+            object.__setattr__(self, "resolution", resolution)
         if len(self.resolution) != len(self.names) or not all(
             math.isfinite(r) and r > 0.0 for r in self.resolution
         ):
@@ -501,9 +515,10 @@ def fit_bat(
     from scipy.optimize import least_squares
 
     mesh = MeshOptions(circumferential, axial_size)
-    if isinstance(targets, MassTargets) and not targets.balance_point < spec.length:
-        raise SpecError("balance-point", f"{targets.balance_point / IN:g} in",
-                        f"a point on the bat, within its {spec.length / IN:g} in")  # fmt: skip
+    for part in getattr(targets, "parts", (targets,)):
+        if isinstance(part, MassTargets) and not part.balance_point < spec.length:
+            raise SpecError("balance-point", f"{part.balance_point / IN:g} in",
+                            f"a point on the bat, within its {spec.length / IN:g} in")  # fmt: skip
     kinds = [PARAMETER_KINDS[p.kind] for p in parameters]
     initial = np.array([p.value(spec) for p in parameters])
     scale = np.maximum(np.abs(initial), [k.typical for k in kinds])

@@ -224,7 +224,7 @@ def test_the_sensitivity_of_a_linear_target_is_its_closed_form() -> None:
 def test_joint_targets_weigh_table_1_and_table_3_by_their_resolutions(tmp_path) -> None:
     """The joint set is Table 1 then Table 3's bending and hoop frequencies; the modal part's
     hoop frequencies are the hoop-only set's, and a stored evaluation is replayed."""
-    from batball.calibrate.bat_fit import JOINT_RESOLUTION, JointTargets, seed_bending_hz
+    from batball.calibrate.bat_fit import JointTargets, seed_bending_hz
 
     spec = load_bat_spec("fitted")
     mesh = MeshOptions(16, 0.5 * IN)
@@ -233,10 +233,29 @@ def test_joint_targets_weigh_table_1_and_table_3_by_their_resolutions(tmp_path) 
     assert joint.names == ("weight_oz", "balance_point_in", "moi_pivot_oz_in2", "bending_1_hz",
                            "bending_2_hz", "hoop_1_hz", "hoop_2_hz")  # fmt: skip
     assert joint.wanted[3:] == (146.0, 555.0, 1450.0, 1950.0)  # seed Table 3
-    assert joint.resolution == tuple(JOINT_RESOLUTION[n] for n in joint.names)
+    # 0.1 oz of 22.1 oz, 0.1 in of 21 in, then 1 % for the MOI and each frequency
+    assert joint.resolution == pytest.approx((0.1 / 22.1, 0.1 / 21.0) + (0.01,) * 5, rel=1e-12)
     both = modal.achieved(spec, mesh)
     assert both[2:] == ModalTargets().achieved(spec, mesh)
     assert both[0] < both[1] < both[2]  # bending 1 < bending 2 < hoop 1 here
     assert modal.achieved(spec, mesh) == both  # replayed from the store
     with pytest.raises(SpecError, match="resolution"):
         JointTargets((modal,), resolution=(0.01,))
+
+
+def test_joint_resolutions_follow_the_targets_not_the_seed(tmp_path) -> None:
+    """Weight and balance point resolutions are absolute (0.1 oz, 0.1 in), so they scale with the
+    measured value; any number of frequencies gets 1 % each; a target with no assumed resolution
+    and a balance point off the bat are refused by name."""
+    from batball.calibrate.bat_fit import JointTargets, joint_resolution
+
+    mass = MassTargets(25.0 * OZ, 20.0 * IN, 7000.0 * OZ * IN**2)
+    three = ModalTargets(hoop_hz=(1400.0, 1900.0, 2500.0), runs_dir=tmp_path)
+    joint = JointTargets((mass, three))
+    assert joint.resolution == pytest.approx((0.1 / 25.0, 0.1 / 20.0) + (0.01,) * 4, rel=1e-12)
+    with pytest.raises(SpecError, match="resolution.*torsion_hz_peak"):
+        joint_resolution("torsion_hz_peak", 1.0)
+    off = JointTargets((MassTargets(22.1 * OZ, 40.0 * IN, 6920.0 * OZ * IN**2),))
+    free = (FreeParameter("lumped_mass", "endcap"),)
+    with pytest.raises(SpecError, match="balance-point"):
+        fit_bat(load_bat_spec("fitted"), off, free)
