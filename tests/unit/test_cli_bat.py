@@ -150,3 +150,25 @@ def test_fit_bat_sensitivity_reports_what_the_joint_targets_pin(tmp_path: Path, 
         assert code == 2 and "spread" in err
     code, _, err = run_cli(["fit-bat", "--to", "hoop", "--sensitivity"], capsys)
     assert code == 2 and "sensitivity" in err
+    code, _, err = run_cli([*base, "--output", str(tmp_path / "bat.toml")], capsys)
+    assert code == 2 and "output" in err and not (tmp_path / "bat.toml").exists()
+    code, _, err = run_cli(["fit-bat", "--spread", "lumped_mass:endcap=1 oz"], capsys)
+    assert code == 2 and "spread" in err and "--to joint" in err
+    code, _, err = run_cli([*base, "--bending", "555 Hz", "146 Hz"], capsys)
+    assert code == 2 and "bending" in err and "lowest first" in err
+
+
+def test_fit_bat_joint_takes_any_number_of_measured_frequencies(tmp_path: Path, capsys) -> None:
+    """A lab's own bat measured for one bending frequency: each frequency weighed at 1 % (the
+    frequency resolution), so the report lists six targets with their resolutions."""
+    code, out, _ = run_cli(["fit-bat", "--to", "joint", "--sensitivity", "--free",
+                            "lumped_mass:endcap", "--bending", "150 Hz", "--hoop", "1400 Hz",
+                            "1900 Hz", "--circumferential", "16", "--axial-size",
+                            "0.5 in", "--runs-dir", str(tmp_path / "runs"), "--json"],
+                           capsys)  # fmt: skip
+    assert code == 0
+    report = json.loads(out)
+    assert report["resolution_percent"] == pytest.approx({
+        "weight_oz": 100 * 0.1 / 22.1, "balance_point_in": 100 * 0.1 / 21.0,
+        "moi_pivot_oz_in2": 1.0, "bending_1_hz": 1.0, "hoop_1_hz": 1.0, "hoop_2_hz": 1.0},
+        rel=1e-9)  # fmt: skip

@@ -81,7 +81,15 @@ def add_fit_bat_parser(sub: Any) -> None:
         default=["1450 Hz", "1950 Hz"],
         help="target hoop frequencies, lowest first (seed Table 3: '1450 Hz' '1950 Hz')",
     )
-    p.add_argument("--output", type=Path, help="write the fitted bat to this TOML file")
+    p.add_argument(
+        "--bending",
+        nargs="+",
+        default=["146 Hz", "555 Hz"],
+        help="target free-free bending frequencies, lowest first, for --to joint (seed Table 3: "
+        "'146 Hz' '555 Hz')",
+    )
+    p.add_argument("--output", type=Path, help="write the fitted bat to this TOML file "
+                   "(not with --sensitivity, which fits nothing)")  # fmt: skip
     add_store_options(p)
     p.set_defaults(handler=run_fit_bat_command)
 
@@ -106,7 +114,13 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
     options = bat_mesh_options(args)
     pivot = options.pop("pivot")
     if args.output is not None:
+        if args.sensitivity:
+            raise SpecError("output", str(args.output), "no --output with --sensitivity (it "
+                            "fits nothing; --json writes its report)")  # fmt: skip
         check_output_file("output", args.output)
+    if args.spread and args.to != "joint":
+        raise SpecError("spread", " ".join(args.spread), "--to joint (only the joint fit and "
+                        "--sensitivity use spreads)")  # fmt: skip
     check_output_folder("runs-dir", args.runs_dir)
     targets = fit_targets(args, pivot)
     default_free = {"mass": DEFAULT_FREE, "hoop": DEFAULT_HOOP_FREE, "joint": DEFAULT_JOINT_FREE}
@@ -131,12 +145,10 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
 
 def fit_targets(args: argparse.Namespace, pivot: float) -> Any:
     """The targets of ``--to``: mass, hoop or both with the bending frequencies (joint)."""
-    from batball.calibrate.bat_fit import JointTargets, MassTargets, ModalTargets, seed_bending_hz
+    from batball.calibrate.bat_fit import JointTargets, MassTargets, ModalTargets
     from batball.units import parse_quantity
 
-    hoop = tuple(parse_quantity(text, "frequency", field="hoop") for text in args.hoop)
-    if not all(f > 0 for f in hoop) or list(hoop) != sorted(set(hoop)):
-        raise SpecError("hoop", " ".join(args.hoop), "positive frequencies, lowest first")
+    hoop = frequencies("hoop", args.hoop)
     mass = MassTargets(
         weight=parse_quantity(args.weight, "mass", field="weight"),
         balance_point=parse_quantity(args.balance_point, "length", field="balance-point"),
@@ -148,7 +160,18 @@ def fit_targets(args: argparse.Namespace, pivot: float) -> Any:
         return mass
     if args.to == "hoop":
         return ModalTargets(hoop_hz=hoop, **store)
-    return JointTargets((mass, ModalTargets(hoop_hz=hoop, bending_hz=seed_bending_hz(), **store)))
+    bending = frequencies("bending", args.bending)
+    return JointTargets((mass, ModalTargets(hoop_hz=hoop, bending_hz=bending, **store)))
+
+
+def frequencies(field: str, texts: list[str]) -> tuple[float, ...]:
+    """Measured frequencies [Hz] from ``texts`` ('1450 Hz'), positive and lowest first."""
+    from batball.units import parse_quantity
+
+    found = tuple(parse_quantity(text, "frequency", field=field) for text in texts)
+    if not all(f > 0 for f in found) or list(found) != sorted(set(found)):
+        raise SpecError(field, " ".join(texts), "positive frequencies, lowest first")
+    return found
 
 
 def parameter_spreads(texts: list[str], free: tuple[Any, ...], spec: Any) -> tuple[float, ...]:
