@@ -37,7 +37,7 @@ def add_calibrate_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--hourglass-type", type=int, help="the ball's hexes' hourglass control as "
                    "part of the model, LS-DYNA IHQ 1-5 (default: the ball file's, else viscous 1)")
     p.add_argument("--hourglass-coefficient", type=float, help="its QH/QM (default: the ball "
-                   "file's, else 0.1); either option replaces the ball's own control")
+                   "file's, else 0.1); each replaces that value of the ball's own control")
     p.add_argument("--free", action="append", help="a parameter to fit; repeat (default: model's)")
     p.add_argument("--bound", action="append", default=[], help="NAME=LOWER:UPPER with units")
     p.add_argument("--quick", action="store_true", help="coarse mesh only, small budget")
@@ -100,8 +100,9 @@ def starting_ball(args: argparse.Namespace) -> Any:
 
 def with_hourglass_options(ball: Any, args: argparse.Namespace) -> Any:
     """``ball`` with the hourglass control of ``--hourglass-type``/``--hourglass-coefficient``
-    as part of its model (either replaces the ball's own; the other then takes the solver
-    default, IHQ 1 or 0.1), or ``ball`` as it is when neither is given."""
+    as part of its model, or ``ball`` as it is when neither is given. A value not given is the
+    ball's own, else the solver default (IHQ 1, coefficient 0.1): ``--hourglass-coefficient
+    0.02`` on a ball with IHQ 4 keeps IHQ 4."""
     from batball.specs import BallHourglass
 
     # (callers that build their own namespace, such as the routes command, may leave them out)
@@ -109,8 +110,10 @@ def with_hourglass_options(ball: Any, args: argparse.Namespace) -> Any:
     coefficient = getattr(args, "hourglass_coefficient", None)
     if kind is None and coefficient is None:
         return ball
-    hourglass = BallHourglass(type=1 if kind is None else kind,
-                              coefficient=0.1 if coefficient is None else coefficient)  # fmt: skip
+    own = ball.hourglass or BallHourglass(type=1, coefficient=0.1)
+    hourglass = BallHourglass(type=own.type if kind is None else kind,
+                              coefficient=own.coefficient if coefficient is None
+                              else coefficient)  # fmt: skip
     return dataclasses.replace(ball, hourglass=hourglass)
 
 

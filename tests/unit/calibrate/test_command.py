@@ -92,3 +92,25 @@ def test_the_hourglass_form_is_calibrated_as_part_of_the_ball(
         dataclasses.replace(plain, hourglass=BallHourglass(4, 0.01)), "ccor", 42.5, 4
     )
     assert stiff.key != request.key
+
+
+def test_one_hourglass_option_keeps_the_other_value_of_the_balls_own() -> None:
+    """A ball whose model names IHQ 4, QM 0.01: ``--hourglass-coefficient 0.02`` alone keeps
+    IHQ 4 (it does not fall back to the viscous default), ``--hourglass-type 5`` alone keeps
+    QM 0.01; on a plain ball the value not given is the solver default (IHQ 1, 0.1)."""
+    import argparse
+    import dataclasses
+
+    from batball.calibrate.command import with_hourglass_options
+    from batball.specs import BallHourglass
+
+    stiff = dataclasses.replace(load_ball_spec("type2"), hourglass=BallHourglass(4, 0.01))
+
+    def given(kind: int | None, coefficient: float | None) -> argparse.Namespace:
+        return argparse.Namespace(hourglass_type=kind, hourglass_coefficient=coefficient)
+
+    assert with_hourglass_options(stiff, given(None, 0.02)).hourglass == BallHourglass(4, 0.02)
+    assert with_hourglass_options(stiff, given(5, None)).hourglass == BallHourglass(5, 0.01)
+    assert with_hourglass_options(stiff, given(None, None)) is stiff
+    plain = load_ball_spec("type2")
+    assert with_hourglass_options(plain, given(None, 0.05)).hourglass == BallHourglass(1, 0.05)
