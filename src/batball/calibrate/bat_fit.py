@@ -1,4 +1,5 @@
-"""Fit chosen bat parameters to measurements: mass properties (seed Table 1) or hoop modes (3).
+"""Fit chosen bat parameters to measurements: mass properties (seed Table 1), free-free modes
+(Table 3), or both together.
 
 A free parameter is named as the user types it:
 
@@ -13,11 +14,15 @@ barrel-2+barrel-3+endcap`` changes the labelled plies of those four parts only (
 the insert's layup). A braid laid on a mandrel of varying diameter changes its angle with the
 diameter, so the barrel's braid angle need not be the taper's.
 
-Two kinds of target (:class:`MassTargets`, :class:`ModalTargets`); the residuals are relative
-misfits, and :func:`scipy.optimize.least_squares` (trust-region reflective; bounds keep masses
->= 0, plies thicker than 0.001 in and angles within 0..90 deg) drives them to zero when as many
-parameters as targets are free, or to their least squares when fewer are. Each evaluation
-remeshes the bat, so a thickness moves the mid-surface exactly as the final mesh does.
+Two kinds of target (:class:`MassTargets`, :class:`ModalTargets`: bending and hoop
+frequencies), and :class:`JointTargets`, several sets at once with each misfit in units of its
+measurement resolution (:func:`joint_resolution`). The residuals are relative misfits, and
+:func:`scipy.optimize.least_squares` (trust-region reflective; bounds keep masses >= 0, plies
+thicker than 0.001 in and angles within 0..90 deg) drives them to zero when as many parameters
+as targets are free, or to their least squares when fewer are. With a prior spread per
+parameter (:func:`fit_bat`'s ``prior_sd``) the fit is regularised: the most probable bat under
+Gaussian measurement errors and a Gaussian prior around the bat file. Each evaluation remeshes
+the bat, so a thickness moves the mid-surface exactly as the final mesh does.
 """
 
 from __future__ import annotations
