@@ -104,6 +104,23 @@ class Sensitivity:
             raise SpecError("gradient", list(g), f"{self.jacobian.shape[1]} values")
         return float(np.sqrt(g @ self.posterior_covariance @ g))
 
+    def posterior_offsets(self, n: int, seed: int) -> np.ndarray:
+        """``n`` draws from the linearised posterior, as offsets from the bat in spreads,
+        (n, n_parameters): a Latin hypercube in the unit cube (:mod:`scipy.stats.qmc`, so the
+        marginals are covered evenly however small ``n``), mapped to standard normals and then
+        through the Cholesky factor of :attr:`posterior_covariance`.
+
+        Raises:
+            SpecError: ``n`` below 1.
+        """
+        from scipy.stats import norm, qmc
+
+        if n < 1:
+            raise SpecError("samples", n, "at least 1")
+        unit = qmc.LatinHypercube(d=len(self.parameters), seed=seed).random(n)
+        factor = np.linalg.cholesky(self.posterior_covariance)
+        return np.asarray(norm.ppf(unit) @ factor.T)
+
     def misfit(self) -> np.ndarray:
         """The targets' misfits at the bat, in resolutions."""
         return (np.asarray(self.achieved) / np.asarray(self.wanted) - 1.0) / np.asarray(
