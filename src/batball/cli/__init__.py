@@ -18,6 +18,7 @@ from typing import NoReturn
 from batball.cli.bat import add_fit_bat_parser
 from batball.cli.decks import add_export_parser, add_run_deck_parser
 from batball.cli.design import add_design_parser
+from batball.cli.ensemble import add_ensemble_parser
 from batball.cli.lab_tests import add_lab_test_parsers
 from batball.cli.studies import add_calibrate_parser, add_reproduce_parser, add_routes_parsers
 from batball.errors import SimulationError, SpecError
@@ -51,6 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_fit_bat_parser(sub)
     add_calibrate_parser(sub)
     add_design_parser(sub)
+    add_ensemble_parser(sub)
     add_export_parser(sub)
     add_run_deck_parser(sub)
     add_routes_parsers(sub)
