@@ -84,3 +84,12 @@ def test_the_command_reports_the_control_it_ran_with(
     assert main([*base, "--hourglass-type", "2"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert (summary["hourglass_type"], summary["hourglass_coefficient"]) == (2, 0.1)
+
+
+def test_the_ball_file_allows_exactly_the_types_the_hex_kernel_has() -> None:
+    """The spec layer cannot import the element layer, so the two lists are kept apart: a type
+    the ball file accepts must be one the kernel runs, and the other way round."""
+    from batball.elements.hex8 import HOURGLASS_TYPES
+    from batball.specs.ball import BALL_HOURGLASS_TYPES
+
+    assert set(BALL_HOURGLASS_TYPES) == set(HOURGLASS_TYPES)
