@@ -22,7 +22,7 @@ def add_ensemble_parser(sub: Any) -> None:
     p = sub.add_parser("ensemble", help=help_text, description=help_text)
     p.add_argument("study", type=Path, help="the ensemble file (TOML; docs/ensemble.md)")
     p.add_argument("--out", type=Path, default=None,
-                   help="where members.csv and summary.json go (default "
+                   help="where members.csv, summary.json and the page index.html go (default "
                    "ensembles/<study name>/)")  # fmt: skip
     p.add_argument("--workers", type=int, default=None,
                    help="local process pool size (default: CPU cores; 0: this process)")
@@ -48,14 +48,17 @@ def run_ensemble_command(args: argparse.Namespace) -> int:
         scheduler=args.scheduler, reuse=not args.no_reuse,
         log=lambda text: print(f"batball ensemble: {text}", file=sys.stderr),
     )  # fmt: skip
+    from batball.report.ensemble_page import write_ensemble_page
+
+    page = write_ensemble_page(out)
     if args.json:
         print(json.dumps(result.summary, indent=2))
     else:
-        print(describe_ensemble(result.summary, out))
+        print(describe_ensemble(result.summary, out, page))
     return 0
 
 
-def describe_ensemble(s: dict[str, Any], out: Path) -> str:
+def describe_ensemble(s: dict[str, Any], out: Path, page: Path) -> str:
     """Each cell's mean and 95 % interval with the bat's and the ball's share, each trend and
     ranking, in mph; where the files are."""
     n_bats = len(s["bats"])
@@ -79,5 +82,5 @@ def describe_ensemble(s: dict[str, Any], out: Path) -> str:
     for r in s["rankings"]:
         lines.append(f"  P({r['first']} faster than {r['second']} at {r['speed_mph']:.4g} mph) "
                      f"= {r['probability_first_faster']:.2f}")  # fmt: skip
-    lines.append(f"  members: {out / 'members.csv'}; summary: {out / 'summary.json'}")
+    lines.append(f"  page: {page}; members: {out / 'members.csv'}; summary: {out / 'summary.json'}")
     return "\n".join(lines)

@@ -141,6 +141,9 @@ def test_a_coarse_ensemble_end_to_end(tmp_path: Path, capsys: pytest.CaptureFixt
     b = [float(m["bbs_mph"]) for m in members if m["ball"] == "type2"]
     share = np.mean([x > y for x, y in zip(a, b, strict=True)])
     assert summary["rankings"][0]["probability_first_faster"] == pytest.approx(share)
+    page = (out / "index.html").read_text(encoding="utf-8")
+    low, high = cell["type1"]["stats"]["low"], cell["type1"]["stats"]["high"]
+    assert f"{low:.2f} to {high:.2f}" in page and (out / "figures" / "cells.png").stat().st_size
     stored = sorted(map(str, runs.rglob("summary.json")))
     assert main([*args, "--json"]) == 0
     again = json.loads(capsys.readouterr().out)
