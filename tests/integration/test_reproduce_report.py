@@ -118,3 +118,33 @@ def test_report_renders_in_headless_chromium(
     screenshot = report / "report.png"
     run_chromium("--window-size=1280,6000", f"--screenshot={screenshot}", page)
     assert screenshot.stat().st_size > 50_000  # a page of tables and plots, not a blank one
+
+
+def test_report_shows_an_ensembles_table_9_intervals(
+    report: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``--ensemble DIR``: the report gains a "Table 9 with intervals" section whose cells are
+    the ensemble's (its summary.json, to the page's two decimals) and links to its page; a
+    folder without an ensemble's summary is refused by name before anything runs."""
+    study = report / "ensemble.toml"
+    study.write_text(
+        'name = "tiny"\nspeeds = ["95 mph", "110 mph"]\nballs = ["type1", "type2"]\n'
+        '[bat]\nspec = "default"\nsamples = 1\nfree = ["lumped_mass:endcap"]\n'
+        '[bat.mesh]\ncircumferential = 8\naxial_size = "1 in"\n'
+        '[mesh]\ndivisions = 3\ncircumferential = 8\naxial_size = "1 in"\n', encoding="utf-8")
+    folder = report / "ensemble"
+    assert main(["ensemble", str(study), "--out", str(folder), "--runs-dir",
+                 str(report / "runs"), "--workers", "0", "--json"]) == 0  # fmt: skip
+    cells = json.loads(capsys.readouterr().out)["cells"]
+    args = ["reproduce", "--quick", "--out", str(report / "with-intervals"),
+            "--runs-dir", str(report / "runs")]  # fmt: skip
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(repro_setup, "QUICK_MESHES", TINY)
+        assert main([*args, "--ensemble", str(folder)]) == 0
+        assert main([*args, "--ensemble", str(report / "runs")]) == 2
+    assert "ensemble" in capsys.readouterr().err
+    page = (report / "with-intervals" / "index.html").read_text(encoding="utf-8")
+    assert "id='intervals'" in page and "../ensemble/index.html" in page
+    for cell in cells:
+        st = cell["stats"]
+        assert f"{st['low']:.2f} to {st['high']:.2f}" in page

@@ -31,6 +31,9 @@ def add_reproduce_parser(sub: Any) -> None:
         help="also refit the seed's balls with MAT_006 (batball calibrate; off by default: the "
         "model of record's fitted balls are embedded)",
     )
+    p.add_argument("--ensemble", type=Path, default=None,
+                   help="the folder of a batball ensemble run: the report shows its Table 9 "
+                   "intervals (docs/ensemble.md)")  # fmt: skip
     add_store_options(p)
     p.add_argument("--json", action="store_true", help="print summary.json on stdout")
     p.set_defaults(handler=run_reproduce_command)  # fmt: skip
@@ -45,11 +48,13 @@ def run_reproduce_command(args: argparse.Namespace) -> int:
     flag = ["--calibrate"] if calibrate else []
     command = " ".join(["batball", "reproduce", *(["--quick"] if args.quick else []), *flag,
                         "--out", args.out.as_posix(), "--runs-dir", args.runs_dir.as_posix(),
-                        *(["--no-reuse"] if args.no_reuse else [])])  # fmt: skip
+                        *(["--no-reuse"] if args.no_reuse else []),
+                        *(["--ensemble", args.ensemble.as_posix()] if args.ensemble else []),
+                        ])  # fmt: skip
     options = ReproduceOptions(out_dir=args.out, runs_dir=args.runs_dir,
                                meshes=QUICK_MESHES if args.quick else FULL_MESHES,
                                reuse=not args.no_reuse, command=command,
-                               calibrate=calibrate)  # fmt: skip
+                               calibrate=calibrate, ensemble=args.ensemble)  # fmt: skip
     result = reproduce(options)
     for warning in result.warnings:
         print(f"batball: warning: {warning}", file=sys.stderr)

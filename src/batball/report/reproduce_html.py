@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from html import escape
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from batball.report.seed_comparison import (
@@ -415,6 +416,32 @@ def inputs_section(result: Reproduction) -> str:
     )
 
 
+def intervals_section(result: Reproduction) -> str:
+    """Table 9 with the intervals of the ensemble given by ``--ensemble`` (its own page has
+    the members and the bats); empty without one."""
+    import json
+    import os
+
+    from batball.report.ensemble_page import cells_section, trends_section
+
+    folder = result.options.ensemble
+    if folder is None:
+        return ""
+    summary = json.loads((Path(folder) / "summary.json").read_text(encoding="utf-8"))
+    page = Path(os.path.relpath(Path(folder) / "index.html", result.options.out_dir)).as_posix()
+    text = (
+        f"Batted-ball speed over the ensemble <code>{escape(summary['study'])}</code>: "
+        f"{len(summary['bats'])} bats drawn from the bat's posterior times "
+        f"{len(summary['balls'])} ball models, {summary['members']} runs. The interval is the "
+        "models' (mean +- 1.96 sd), without the lab's own scatter; the shares say how much of "
+        f"it is the bat's and how much the ball's. Its own page: <a href='{escape(page)}'>"
+        f"{escape(page)}</a>."
+    )
+    body = (cells_section(summary) + trends_section(summary)).replace("<h2", "<h3").replace(
+        "</h2>", "</h3>")
+    return f"<h2 id='intervals'>Table 9 with intervals</h2><p class='note'>{text}</p>{body}"
+
+
 def render_report(result: Reproduction) -> str:
     """The whole page."""
     quick = "coarse (--quick, indicative)" if result.indicative else "full-size"
@@ -425,12 +452,15 @@ def render_report(result: Reproduction) -> str:
         f"{quick} meshes; {result.seconds:.1f} s; {escape(result.environment['date_utc'])}. "
         f"No batball number here comes from anywhere but a run.</p>{headline(result)}"
         "<p><a href='#tables'>model of record</a> · <a href='#check'>solver check</a> · "
-        "<a href='#tests'>tests</a> · <a href='#figures'>figures</a> · "
+        + ("<a href='#intervals'>Table 9 with intervals</a> · "
+           if result.options.ensemble is not None else "")
+        + "<a href='#tests'>tests</a> · <a href='#figures'>figures</a> · "
         "<a href='#inputs'>inputs</a> · <a href='summary.json'>summary.json</a></p>"
     )
     body = (
         header
         + tables_section(result)
+        + intervals_section(result)
         + tests_section(result)
         + figures_section(result)
         + inputs_section(result)

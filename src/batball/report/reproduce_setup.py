@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from batball.errors import SpecError
 from batball.report.runs import ReportFigure, TestRun
 from batball.results.store import check_output_folder, load_cached_summary
 from batball.specs import BallSpec, BatSpec
@@ -85,6 +86,8 @@ class ReproduceOptions:
         command: the command line, as the report states it.
         calibrate: also refit both seed balls with MAT_006 (``--calibrate``; a refit section).
         workers: the calibration's local process pool (None: CPU cores; 0: this process).
+        ensemble: the folder of a ``batball ensemble`` run whose Table 9 intervals the report
+            shows beside the tables (None: no interval section).
     """
 
     out_dir: Path
@@ -99,11 +102,16 @@ class ReproduceOptions:
     command: str = "batball reproduce"
     calibrate: bool = False
     workers: int | None = None
+    ensemble: Path | None = None
 
     def __post_init__(self) -> None:
-        """The output folders checked before anything runs (a file in their place is named)."""
+        """The output folders checked before anything runs (a file in their place is named),
+        and the ensemble's summary."""
         check_output_folder("out", self.out_dir)
         check_output_folder("runs-dir", self.runs_dir)
+        if self.ensemble is not None and not (Path(self.ensemble) / "summary.json").is_file():
+            raise SpecError("ensemble", str(self.ensemble), "the folder of a batball ensemble "
+                            "run (with its summary.json)")  # fmt: skip
 
 
 @dataclass(frozen=True)
