@@ -17,8 +17,7 @@ from html import escape
 from pathlib import Path
 from typing import Any
 
-from batball.report.design_page import STYLE, table
-from batball.report.reproduce_html import IMAGE_CHECK
+from batball.report.html_parts import IMAGE_CHECK, STYLE, table
 
 #: The figure's size (inches) and resolution.
 FIGSIZE = (7.5, 4.5)

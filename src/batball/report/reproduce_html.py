@@ -11,6 +11,7 @@ from html import escape
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from batball.report.html_parts import IMAGE_CHECK
 from batball.report.seed_comparison import (
     ComparisonRow,
     ComparisonTable,
@@ -45,16 +46,6 @@ figcaption { font-size: 0.85em; color: #444; }
 figure.wide { width: 66em; }
 code { background: #f4f4f4; padding: 0 0.2em; }
 """
-
-IMAGE_CHECK = """<script>
-window.addEventListener("load", function () {
-  var images = Array.prototype.slice.call(document.images);
-  var loaded = images.filter(function (i) { return i.complete && i.naturalWidth > 0; });
-  document.body.setAttribute("data-image-count", String(images.length));
-  document.body.setAttribute("data-images-loaded",
-                             loaded.length === images.length ? "all" : "missing");
-});
-</script>"""
 
 
 def number(value: float | None, digits: int, unit: str = "") -> str:
