@@ -160,9 +160,14 @@ def ensemble_study_from_dict(document: Mapping[str, Any], *,
     texts = bat_table.get("free", list(DEFAULT_JOINT_FREE))
     if not isinstance(texts, list) or not texts or not all(isinstance(t, str) for t in texts):
         raise SpecError("bat.free", texts, "a non-empty list of parameter names (fit-bat --free)")
-    free = tuple(FreeParameter.parse(t) for t in texts)
-    for p in free:
-        p.value(spec)  # a SpecError naming the parameter if the bat has no such value
+    if len(set(texts)) != len(texts):
+        raise SpecError("bat.free", texts, "each parameter once")
+    try:
+        free = tuple(FreeParameter.parse(t) for t in texts)
+        for p in free:
+            p.value(spec)  # refused if the bat has no such value
+    except SpecError as exc:
+        raise SpecError("bat.free", exc.value, exc.allowed) from None
     given = bat_table.get("spread", {})
     if not isinstance(given, dict) or not set(given) <= set(texts):
         raise SpecError("bat.spread", given, f"a table NAME = 'VALUE UNIT' with NAME among "
@@ -184,13 +189,18 @@ def ensemble_study_from_dict(document: Mapping[str, Any], *,
     targets = _bat_targets(bat_table.get("targets", {}))
     embedded = EMBEDDED_BALLS + FITTED_BALLS
     balls = tuple(_spec_path(v, base, "balls", embedded) for v in _list(document, "balls"))
-    if not balls:
-        raise SpecError("balls", document.get("balls"), "a list of ball files or embedded names")
-    for source in balls:
-        load_ball_spec(source)
+    if not balls or len(set(balls)) != len(balls):
+        raise SpecError("balls", document.get("balls"), "a list of ball files or embedded "
+                        "names, each once")  # fmt: skip
+    for i, source in enumerate(balls):
+        try:
+            load_ball_spec(source)
+        except SpecError as exc:
+            raise SpecError(f"balls[{i}].{exc.field}", exc.value, exc.allowed) from None
     sens_mesh = _mesh_table(bat_table.get("mesh", {}), "bat.mesh", ("circumferential",
                                                                    "axial_size"))  # fmt: skip
     mesh = _mesh_table(document.get("mesh", {}), "mesh", _MESH)
+    _bbs_setup(mesh, speeds)
     sensitivity_mesh = MeshOptions(
         int(sens_mesh.get("circumferential", 32)),
         _quantity(sens_mesh.get("axial_size", "0.2 in"), "length", "bat.mesh.axial_size"),
@@ -200,6 +210,18 @@ def ensemble_study_from_dict(document: Mapping[str, Any], *,
         targets=targets, sensitivity_mesh=sensitivity_mesh, balls=balls, speeds=speeds,
         mesh=mesh, seed=seed,
     )  # fmt: skip
+
+
+def _bbs_setup(mesh: Mapping[str, str], speeds: Sequence[float]) -> list[Any]:
+    """The BBS test's setup of each speed: the test's own checks of the mesh options, so a
+    value it refuses stops the study before anything runs."""
+    from batball.lab.registry import LAB_TESTS
+
+    test = LAB_TESTS["bbs"]
+    try:
+        return [test.setup(**mesh, speed=f"{s!r} m/s") for s in speeds]
+    except SpecError as exc:
+        raise SpecError(f"mesh.{exc.field.replace('-', '_')}", exc.value, exc.allowed) from None
 
 
 def _bat_targets(table: Any) -> BatTargets:
@@ -222,23 +244,22 @@ def _bat_targets(table: Any) -> BatTargets:
             raise SpecError(where, table[key], "positive frequencies, lowest first")
         return found
 
+    def value(key: str, dimension: str, default: float) -> float:
+        if key not in table:
+            return default
+        return _quantity(table[key], dimension, f"bat.targets.{key}")
+
     return BatTargets(
-        weight=_quantity(table.get("weight", bat.weight_exp), "mass", "bat.targets.weight"),
-        balance_point=_quantity(
-            table.get("balance_point", bat.balance_point_exp), "length", "bat.targets.balance_point"
-        ),  # fmt: skip
-        moi_pivot=_quantity(
-            table.get("moi", bat.moi_exp), "moment_of_inertia", "bat.targets.moi"
-        ),  # fmt: skip
+        weight=value("weight", "mass", bat.weight_exp),
+        balance_point=value("balance_point", "length", bat.balance_point_exp),
+        moi_pivot=value("moi", "moment_of_inertia", bat.moi_exp),
         bending_hz=frequencies("bending", (modal.bending_1_exp, modal.bending_2_exp)),
         hoop_hz=frequencies("hoop", (modal.hoop_1_exp, modal.hoop_2_exp)),
     )
 
 
 def _quantity(value: Any, dimension: str, where: str) -> float:
-    """A value with its unit (a float already in SI passes through: the seed's defaults)."""
-    if isinstance(value, float):
-        return value
+    """A value with its unit, as a string ("95 mph"); a bare number is refused."""
     if not isinstance(value, str):
         raise SpecError(where, value, f"a {dimension.replace('_', ' ')} with its unit, as a string")
     return parse_quantity(value, dimension, field=where)
@@ -315,11 +336,41 @@ def ensemble_bats(study: EnsembleStudy, *, runs_dir: Path | None,
     if study.samples:
         draws = found.posterior_offsets(study.samples, seed=study.seed)
         for k, offsets in enumerate(draws, start=1):
-            moved = spec
-            for p, z, sd in zip(study.free, offsets, study.spread, strict=True):
-                moved = p.apply(moved, p.value(spec) + float(z) * sd)
-            bats.append(EnsembleBat(f"bat-{k}", moved, tuple(float(z) for z in offsets)))
+            offsets = tuple(float(z) for z in offsets)
+            bats.append(EnsembleBat(f"bat-{k}", drawn_bat(spec, study, offsets, f"bat-{k}"),
+                                    offsets))  # fmt: skip
     return bats, found
+
+
+def drawn_bat(spec: BatSpec, study: EnsembleStudy, offsets: Sequence[float],
+              name: str) -> BatSpec:  # fmt: skip
+    """``spec`` moved by ``offsets`` (in spreads) along the study's free parameters.
+
+    Raises:
+        SpecError: a value outside its parameter's bounds (a ply thinner than 0.001 in, a
+            negative mass, an angle outside 0..90 deg), naming the spread that put it there.
+    """
+    from batball.calibrate.bat_fit import PARAMETER_KINDS
+
+    moved = spec
+    for p, z, sd in zip(study.free, offsets, study.spread, strict=True):
+        value, kind = p.value(spec) + z * sd, PARAMETER_KINDS[p.kind]
+        if not kind.lower <= value <= kind.upper:
+            raise SpecError(
+                f"bat.spread.{p}", _in_unit(sd, kind.unit),
+                f"a spread whose draws stay within the parameter's bounds "
+                f"({_in_unit(kind.lower, kind.unit)} to {_in_unit(kind.upper, kind.unit)}); "
+                f"{name} draws {_in_unit(value, kind.unit)}",
+            )  # fmt: skip
+        moved = p.apply(moved, value)
+    return moved
+
+
+def _in_unit(value: float, unit: str) -> str:
+    """``value`` (SI) in the parameter's display unit."""
+    from batball.units import to_unit
+
+    return f"{to_unit(value, unit):.4g} {unit}"
 
 
 # --- the runs ------------------------------------------------------------------------------------
@@ -345,13 +396,13 @@ def run_ensemble_job(job: EnsembleJob) -> dict[str, Any]:
     from batball.specs import load_ball_spec
     from batball.specs.bat import bat_spec_from_dict
 
-    spec = bat_spec_from_dict(job.bat, source=f"ensemble bat {job.bat.get('name')}")
     test = LAB_TESTS["bbs"]
-    setup = test.setup(**job.mesh, speed=f"{job.speed!r} m/s")
     try:
+        spec = bat_spec_from_dict(job.bat, source=f"ensemble bat {job.bat.get('name')}")
+        setup = test.setup(**job.mesh, speed=f"{job.speed!r} m/s")
         summary, _ = test.execute({"bat": spec, "ball": load_ball_spec(job.ball)}, setup,
                                   runs_dir=job.runs_dir, reuse=job.reuse)  # fmt: skip
-    except SimulationError as exc:
+    except (SimulationError, SpecError) as exc:
         return {"error": str(exc)}
     return {"bbs_mph": float(summary["bbs_mph"]), "bbcor": float(summary["bbcor"])}
 
@@ -381,7 +432,8 @@ def run_ensemble(
 
     Raises:
         SpecError: bad workers or scheduler, an output folder that cannot be written.
-        SimulationError: every member of a cell failed, so it has no value.
+        SimulationError: a cell with no bat all of whose members ran (``members.csv`` is
+            written first, with each failure's reason).
     """
     from batball.calibrate.executors import default_workers, open_executor
     from batball.results.store import check_output_folder, write_json_atomic, write_text_atomic
@@ -405,9 +457,10 @@ def run_ensemble(
     for (b, source, speed), result in zip(members, results, strict=True):
         rows.append({"bat": bats[b].id, "ball": balls[source].name, "ball_model": source,
                      "speed_mph": speed / MPH, **result})  # fmt: skip
+    (out_dir / "summary.json").unlink(missing_ok=True)  # never beside another run's members
+    write_text_atomic(out_dir / "members.csv", members_csv(study, bats, rows))
     summary = ensemble_summary(study, bats, found, rows)
     summary["wall_seconds"] = time.perf_counter() - clock
-    write_text_atomic(out_dir / "members.csv", members_csv(study, bats, rows))
     write_json_atomic(out_dir / "summary.json", summary)
     return EnsembleResult(study, bats, rows, summary)
 
@@ -423,9 +476,10 @@ def members_csv(study: EnsembleStudy, bats: Sequence[EnsembleBat],
                      "error"])  # fmt: skip
     for r in rows:
         ran = "error" not in r
-        writer.writerow([r["bat"], *(f"{z:.6g}" for z in offsets[r["bat"]]), r["ball"],
-                         r["ball_model"], f"{r['speed_mph']:.6g}",
-                         f"{r['bbs_mph']:.6g}" if ran else "", f"{r['bbcor']:.6g}" if ran else "",
+        writer.writerow([r["bat"], *(f"{z:.12g}" for z in offsets[r["bat"]]), r["ball"],
+                         r["ball_model"], f"{r['speed_mph']:.12g}",
+                         f"{r['bbs_mph']:.12g}" if ran else "",
+                         f"{r['bbcor']:.12g}" if ran else "",
                          r.get("error", "")])  # fmt: skip
     return stream.getvalue()
 
@@ -469,30 +523,28 @@ def ensemble_summary(study: EnsembleStudy, bats: Sequence[EnsembleBat], found: A
     failed members.
 
     Raises:
-        SimulationError: a cell all of whose members failed.
+        SimulationError: a cell or trend with no bat all of whose members ran, naming it and
+            its members' failures.
     """
     groups = sorted({r["ball"] for r in rows})
     failed = [dict(r) for r in rows if "error" in r]
     cells, arrays = [], {}
     for group, mph in itertools.product(groups, [s / MPH for s in study.speeds]):
         array = _cell_array(rows, group, mph, [b.id for b in bats])
-        if np.all(np.isnan(array)):
-            raise SimulationError(f"ensemble {study.name}: every member of {group} at "
-                                  f"{mph:.4g} mph failed ({failed[0]['error']})")  # fmt: skip
+        where = f"ensemble {study.name}, {group} at {mph:.4g} mph"
         arrays[group, mph] = array
-        cell = {
-            "ball": group,
-            "speed_mph": mph,
-            **_complete(array),
-            **_against_seed(group, mph, _complete(array)["stats"]["mean"]),
-        }
+        complete = _complete(array, where, [f for f in failed if f["ball"] == group and
+                                            math.isclose(f["speed_mph"], mph, rel_tol=1e-9)])
+        cell = {"ball": group, "speed_mph": mph, **complete, **_against_seed(group, mph)}
         cells.append(cell)
     trends = []
     low, high = study.speeds[0] / MPH, study.speeds[-1] / MPH
     if len(study.speeds) > 1:
         for group in groups:
             diff = arrays[group, high] - arrays[group, low]
-            trend = {"ball": group, "from_mph": low, "to_mph": high, **_complete(diff)}
+            where = f"ensemble {study.name}, {group} from {low:.4g} to {high:.4g} mph"
+            trend = {"ball": group, "from_mph": low, "to_mph": high,
+                     **_complete(diff, where, [f for f in failed if f["ball"] == group])}
             exp = [float(c["experiment_mph"]) for c in cells
                    if c["ball"] == group and c["speed_mph"] in (low, high)
                    and "experiment_mph" in c]  # fmt: skip
@@ -504,8 +556,9 @@ def ensemble_summary(study: EnsembleStudy, bats: Sequence[EnsembleBat], found: A
         for mph in [s / MPH for s in study.speeds]:
             a, b = arrays[first, mph], arrays[second, mph]
             keep = ~(np.isnan(a).any(axis=1) | np.isnan(b).any(axis=1))
+            probability = probability_faster(a[keep], b[keep]) if keep.any() else None
             rankings.append({"first": first, "second": second, "speed_mph": mph,
-                             "probability_first_faster": probability_faster(a[keep], b[keep]),
+                             "probability_first_faster": probability,
                              "bats": int(keep.sum())})  # fmt: skip
     return {
         "study": study.name,
@@ -537,20 +590,30 @@ def _cell_array(rows: Sequence[Mapping[str, Any]], group: str, mph: float,
     models = list(dict.fromkeys(r["ball_model"] for r in rows if r["ball"] == group))
     array = np.full((len(bat_ids), len(models)), np.nan)
     for r in rows:
-        if r["ball"] == group and math.isclose(r["speed_mph"], mph) and "error" not in r:
+        if r["ball"] == group and math.isclose(r["speed_mph"], mph, rel_tol=1e-9) \
+                and "error" not in r:
             array[bat_ids.index(r["bat"]), models.index(r["ball_model"])] = r["bbs_mph"]
     return array
 
 
-def _complete(array: np.ndarray) -> dict[str, Any]:
+def _complete(array: np.ndarray, where: str,
+              failed: Sequence[Mapping[str, Any]]) -> dict[str, Any]:  # fmt: skip
     """The statistics over the bats whose members all ran (a failed member drops its bat from
-    the cell, so the split stays balanced)."""
+    the cell, so the split stays balanced).
+
+    Raises:
+        SimulationError: no such bat; ``where`` names the cell, with the first failure.
+    """
     keep = ~np.isnan(array).any(axis=1)
+    if not keep.any():
+        why = f": {failed[0]['error']}" if failed else ""
+        raise SimulationError(f"{where}: no bat whose members all ran ({len(failed)} members "
+                              f"failed{why}); see members.csv")  # fmt: skip
     return {"stats": cell_statistics(array[keep]), "bats": int(keep.sum()),
             "models": int(array.shape[1])}  # fmt: skip
 
 
-def _against_seed(group: str, mph: float, mean: float) -> dict[str, Any]:
+def _against_seed(group: str, mph: float) -> dict[str, Any]:
     """Seed Table 9's experiment and LS-DYNA values where it has the cell."""
     from batball.specs.seed import load_seed_tables
 
@@ -563,6 +626,6 @@ def _against_seed(group: str, mph: float, mean: float) -> dict[str, Any]:
 
 __all__ = [
     "BatTargets", "EnsembleBat", "EnsembleJob", "EnsembleResult", "EnsembleStudy", "Z95",
-    "cell_statistics", "ensemble_bats", "ensemble_summary", "load_ensemble_study",
+    "cell_statistics", "drawn_bat", "ensemble_bats", "ensemble_summary", "load_ensemble_study",
     "probability_faster", "run_ensemble", "run_ensemble_job",
 ]  # fmt: skip

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 from collections.abc import Mapping, Sequence
 from html import escape
 from pathlib import Path
@@ -61,7 +62,8 @@ def draw_cells(summary: Mapping[str, Any], members: Sequence[Mapping[str, str]],
                 label=None if "interval" in labelled else "95 % interval")  # fmt: skip
         labelled.add("interval")
         for m in members:
-            if m["ball"] != cell["ball"] or abs(float(m["speed_mph"]) - cell["speed_mph"]) > 1e-6:
+            if m["ball"] != cell["ball"] or not math.isclose(float(m["speed_mph"]),
+                                                               cell["speed_mph"], rel_tol=1e-9):
                 continue
             if not m["bbs_mph"]:
                 continue
@@ -122,7 +124,8 @@ def trends_section(summary: Mapping[str, Any]) -> str:
              _mph(t["experiment_mph"], True) if "experiment_mph" in t else ""]
             for t in summary["trends"]]  # fmt: skip
     ranks = [[escape(r["first"]), escape(r["second"]), f"{r['speed_mph']:.4g}",
-              f"{r['probability_first_faster']:.2f}", str(r["bats"])]
+              "—" if r["probability_first_faster"] is None
+              else f"{r['probability_first_faster']:.2f}", str(r["bats"])]
              for r in summary["rankings"]]  # fmt: skip
     return ("<h2 id='trends'>Trends and rankings</h2>"
             + (table(head, rows, numeric=range(1, 6), data="trends") if rows else "")

@@ -420,13 +420,14 @@ def intervals_section(result: Reproduction) -> str:
         return ""
     summary = json.loads((Path(folder) / "summary.json").read_text(encoding="utf-8"))
     page = Path(os.path.relpath(Path(folder) / "index.html", result.options.out_dir)).as_posix()
+    link = (f"Its own page: <a href='{escape(page)}'>{escape(page)}</a>."
+            if (Path(folder) / "index.html").is_file() else "")  # fmt: skip
     text = (
         f"Batted-ball speed over the ensemble <code>{escape(summary['study'])}</code>: "
         f"{len(summary['bats'])} bats drawn from the bat's posterior times "
         f"{len(summary['balls'])} ball models, {summary['members']} runs. The interval is the "
         "models' (mean +- 1.96 sd), without the lab's own scatter; the shares say how much of "
-        f"it is the bat's and how much the ball's. Its own page: <a href='{escape(page)}'>"
-        f"{escape(page)}</a>."
+        f"it is the bat's and how much the ball's. {link}"
     )
     body = (cells_section(summary) + trends_section(summary)).replace("<h2", "<h3").replace(
         "</h2>", "</h3>")

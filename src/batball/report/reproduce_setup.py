@@ -109,9 +109,24 @@ class ReproduceOptions:
         and the ensemble's summary."""
         check_output_folder("out", self.out_dir)
         check_output_folder("runs-dir", self.runs_dir)
-        if self.ensemble is not None and not (Path(self.ensemble) / "summary.json").is_file():
-            raise SpecError("ensemble", str(self.ensemble), "the folder of a batball ensemble "
-                            "run (with its summary.json)")  # fmt: skip
+        if self.ensemble is not None:
+            check_ensemble_folder(Path(self.ensemble))
+
+
+def check_ensemble_folder(folder: Path) -> None:
+    """Refuse a folder without a finished ``batball ensemble`` run's ``summary.json``."""
+    import json
+
+    allowed = "the folder of a finished batball ensemble run (its summary.json with study, "
+    try:
+        summary = json.loads((folder / "summary.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        raise SpecError("ensemble", str(folder), allowed + "cells and trends)") from None
+    missing = [k for k in ("study", "cells", "trends", "bats", "balls", "members")
+               if not isinstance(summary, dict) or k not in summary]  # fmt: skip
+    if missing:
+        raise SpecError("ensemble", str(folder), allowed + f"cells and trends; it lacks "
+                        f"{', '.join(missing)})")  # fmt: skip
 
 
 @dataclass(frozen=True)

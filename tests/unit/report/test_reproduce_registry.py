@@ -111,3 +111,19 @@ def test_quick_calibration_is_the_calibrate_quick_budget_on_the_quick_mesh() -> 
     quick = calibration_options(TINY)
     assert (quick.coarse_divisions, quick.fine_divisions, quick.global_points) == (2, None, 6)
     assert calibration_options(MeshSizes(12, 48, 0.00254)).fine_divisions == 12
+
+
+def test_reproduce_refuses_a_folder_that_is_not_a_finished_ensemble(tmp_path: Path) -> None:
+    """``--ensemble``: a folder without summary.json, with one that is not JSON, or with one
+    that lacks the cells is refused by its field before anything runs."""
+    from batball.errors import SpecError
+    from batball.report.reproduce_setup import check_ensemble_folder
+
+    with pytest.raises(SpecError, match="^ensemble: .*summary.json"):
+        check_ensemble_folder(tmp_path)
+    (tmp_path / "summary.json").write_text("{not json", encoding="utf-8")
+    with pytest.raises(SpecError, match="^ensemble: "):
+        check_ensemble_folder(tmp_path)
+    (tmp_path / "summary.json").write_text('{"study": "x", "trends": []}', encoding="utf-8")
+    with pytest.raises(SpecError, match="lacks cells, bats, balls, members"):
+        check_ensemble_folder(tmp_path)
