@@ -23,6 +23,12 @@ declare -A ARGS=(
   # the seed's hourglass form (stiffness IHQ 4, QM 0.01) as part of the fitted model
   [type1-mat006-ihq4]="--ball type1 --model mat006 --hourglass-type 4 --hourglass-coefficient 0.01"
   [type2-mat006-ihq4]="--ball type2 --model mat006 --hourglass-type 4 --hourglass-coefficient 0.01"
+  # the bulk modulus, which the impact tests barely pin, held at half and twice the fitted one
+  # (the shear constants refitted): alternatives for the ensemble's ball models
+  [type1-mat006-khalf]="--ball $OUT/type1-mat006-khalf-start.toml --model mat006 --free g0 --free g_inf --free beta"
+  [type1-mat006-kdouble]="--ball $OUT/type1-mat006-kdouble-start.toml --model mat006 --free g0 --free g_inf --free beta"
+  [type2-mat006-khalf]="--ball $OUT/type2-mat006-khalf-start.toml --model mat006 --free g0 --free g_inf --free beta"
+  [type2-mat006-kdouble]="--ball $OUT/type2-mat006-kdouble-start.toml --model mat006 --free g0 --free g_inf --free beta"
 )
 names=("$@")
 [ ${#names[@]} -eq 0 ] && names=(type1-mat006 type2-mat006 type1-prony3 type2-prony3 type1-mat006-fit95 type1-mat006-fit110)
