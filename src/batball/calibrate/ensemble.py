@@ -59,7 +59,7 @@ Z95 = 1.959963984540054
 _TOP = ("name", "speeds", "seed", "bat", "balls", "mesh")
 _BAT = ("spec", "samples", "free", "spread", "targets", "mesh")
 _TARGETS = ("weight", "balance_point", "moi", "bending", "hoop")
-_MESH = ("divisions", "circumferential", "axial_size")
+_MESH = ("divisions", "circumferential", "axial_size", "shell")
 
 
 @dataclass(frozen=True)
@@ -294,7 +294,11 @@ def _mesh_table(table: Any, where: str, keys: Sequence[str]) -> dict[str, str]:
     _known(table, f"{where}.", keys)
     out = {}
     for key, value in table.items():
-        if key == "axial_size":
+        if key == "shell":
+            if not isinstance(value, str):
+                raise SpecError(f"{where}.{key}", value, "the bat's shell element, bt or mitc4")
+            out[key] = value
+        elif key == "axial_size":
             _quantity(value, "length", f"{where}.{key}")
             out[key] = value
         elif not isinstance(value, int) or isinstance(value, bool) or value < 2:

@@ -79,6 +79,7 @@ GOOD = {
         ({"mesh": {"axial_size": "0.5"}}, "mesh.axial_size"),
         ({"mesh": {"axial_size": 0.5}}, "mesh.axial_size"),
         ({"mesh": {"circumferential": 2}}, "mesh.circumferential"),  # the BBS test's own check
+        ({"mesh": {"shell": "q4"}}, "mesh.shell"),
         ({"bat": {**GOOD["bat"], "mesh": {"axial_size": 0.5}}}, "bat.mesh.axial_size"),
         ({"bat": {**GOOD["bat"], "free": ["lumped_mass:endcap"] * 2}}, "bat.free"),
         ({"bat": {**GOOD["bat"], "samples": -2}}, "bat.samples"),
