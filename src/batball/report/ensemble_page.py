@@ -67,7 +67,8 @@ def draw_cells(summary: Mapping[str, Any], members: Sequence[Mapping[str, str]],
                 continue
             if not m["bbs_mph"]:
                 continue
-            offset = 0.12 * (models.index(m["ball_model"]) % 3 - 1)
+            group = [s for s in models if summary["balls"][s] == cell["ball"]]
+            offset = 0.1 + 0.3 * group.index(m["ball_model"]) / max(len(group) - 1, 1)
             name = Path(m["ball_model"]).stem
             ax.scatter(x + offset, float(m["bbs_mph"]), s=22, color=colours[m["ball_model"]],
                        edgecolors="black" if m["bat"] == "bat-0" else "none", zorder=3,
@@ -81,10 +82,10 @@ def draw_cells(summary: Mapping[str, Any], members: Sequence[Mapping[str, str]],
             labelled.add("exp")
     ax.set_xticks(range(len(cells)),
                   [f"{c['ball']}\n{c['speed_mph']:.4g} mph" for c in cells])  # fmt: skip
-    ax.set_xlim(-0.6, len(cells) - 0.4)
+    ax.set_xlim(-0.4, len(cells) - 0.4)
     ax.set_ylabel("batted-ball speed [mph]")
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     save(fig, path)
 
