@@ -6,7 +6,9 @@ step, the seconds per cycle by phase and the element-cycles per second, plus the
 whole run: the cycles a run needs (the pre-stress's, lab.bbs.relaxation_cycles, + the impact's
 simulated time over the step) times the measured cost (a pre-stress cycle, bat only, is counted
 as a whole cycle: an upper bound). ``--mass-scaling off`` measures without selective mass
-scaling. Usage:
+scaling. The machine's SGEMM GFLOP/s on the Numba thread count, measured in the same run
+(``yardstick.py``), gives the element-cycles per second per GFLOP/s, comparable between hosts.
+Usage:
 
     NUMBA_NUM_THREADS=1 PYTHONPATH=src python benchmarks/bench_bbs_cycles.py \
         --ball-divisions 12 --circumferential 48 --axial-size-in 0.1 --cycles 300
@@ -52,6 +54,10 @@ def main() -> None:
         solver.cycle(row)
     seconds = (time.perf_counter() - start) / args.cycles
     n_shells, n_hexes = model.bat_mesh.n_cells, model.ball_cells.shape[0]
+    import numba
+    from yardstick import cpu_description, gemm_gflops
+
+    sgemm = gemm_gflops(numba.get_num_threads())["sgemm"]
     cycles = sum(relaxation_cycles(setup, solver.dt)) + args.simulated_ms * 1e-3 / solver.dt
     print(json.dumps({
         "n_shells": n_shells, "n_hexes": n_hexes, "stable_step_s": solver.dt,
@@ -59,6 +65,9 @@ def main() -> None:
         "build_seconds": build, "seconds_per_cycle": seconds,
         "phase_seconds_per_cycle": {k: v / args.cycles for k, v in solver.phase_seconds.items()},
         "element_cycles_per_second": (n_shells + n_hexes) / seconds,
+        "cpu": cpu_description(), "threads": numba.get_num_threads(),
+        "sgemm_gflops": sgemm,
+        "element_cycles_per_second_per_sgemm_gflops": (n_shells + n_hexes) / seconds / sgemm,
         "projected_cycles": cycles, "projected_run_seconds": cycles * seconds,
     }, indent=2))  # fmt: skip
 

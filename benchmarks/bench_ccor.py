@@ -2,11 +2,14 @@
 
 Runs the whole test (mesh, model, explicit run to separation, measurements) once to compile the
 Numba kernels, then times it with 1 thread (the baseline in the same run) and with every thread,
-and prints wall time and hex element-cycles per second for each. Usage:
+and prints wall time and hex element-cycles per second for each, also per GFLOP/s of the
+machine's SGEMM on the same threads, measured in the same run (``yardstick.py``), with the CPU's
+model and vector width. Usage:
 
     python benchmarks/bench_ccor.py [--divisions 12] [--repeats 3] [--precision single]
 
-``--precision both`` alternates single and double element arithmetic (the A/B of docs/notes/precision.md).
+``--precision both`` alternates single and double element arithmetic (the A/B of
+docs/notes/precision.md).
 """
 
 from __future__ import annotations
@@ -51,7 +54,10 @@ def main() -> None:
     parser.add_argument("--threads", type=int, nargs="*", help="thread counts (default 1 and all)")
     args = parser.parse_args()
     import numba
+    from yardstick import cpu_description, gemm_gflops
 
+    cpu = cpu_description()
+    print(f"{cpu['model']}, {cpu['vector_bits']}-bit vectors, {cpu['logical_cpus']} logical CPUs")
     precisions = ("single", "double") if args.precision == "both" else (args.precision,)
     runs = [(t, p) for t in args.threads or sorted({1, numba.config.NUMBA_NUM_THREADS})
             for p in precisions]  # fmt: skip
@@ -59,9 +65,13 @@ def main() -> None:
         r = measure(threads, args.divisions, args.repeats, precision)
         wall, solver = statistics.median(r["walls"]), statistics.median(r["solver"])
         rate = r["n_cells"] * r["n_steps"] / solver
+        gemm = gemm_gflops(threads)["sgemm" if precision == "single" else "dgemm"]
         print(f"{precision}, threads {threads}: {r['n_cells']} hexes x {r['n_steps']} cycles; "
               f"wall {wall:.2f} s (median of {args.repeats}), solver {solver:.2f} s, "
-              f"{rate / 1e6:.1f} M element-cycles/s; CCOR {r['ccor']:.4f}")  # fmt: skip
+              f"{rate / 1e6:.2f} M element-cycles/s; CCOR {r['ccor']:.4f}")  # fmt: skip
+        name = "SGEMM" if precision == "single" else "DGEMM"
+        print(f"  yardstick: {name} {gemm:.1f} GFLOP/s on {threads} thread(s); "
+              f"{rate / gemm:.3g} element-cycles/s per GFLOP/s")  # fmt: skip
         print("  phases (s, last run):", {k: round(v, 2) for k, v in r["phases"].items()})
 
 if __name__ == "__main__":

@@ -1,0 +1,88 @@
+"""The machine's own yardstick, measured in the same run as a benchmark: NumPy SGEMM and DGEMM
+GFLOP/s on a given number of threads, and the CPU's model and vector width.
+
+Hosts differ by about 3x in absolute speed, so a kernel's element-cycles per second is only
+comparable between hosts (or between runs on a shared host) as a fraction of a yardstick taken
+at the same time on the same threads. GEMM is the yardstick because it is what the machine's
+floating-point units and caches can sustain on dense work, measured by a library tuned for the
+host (OpenBLAS here, selected at run time for the CPU).
+
+Used by ``bench_ccor.py`` and ``bench_bbs_cycles.py``; on its own:
+
+    python benchmarks/yardstick.py [--threads 1 2] [--size 2048]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+from pathlib import Path
+
+CHILD = """
+import json, time
+import numpy as np
+n, repeats = {size}, {repeats}
+out = {{}}
+for name, dtype in (("sgemm", np.float32), ("dgemm", np.float64)):
+    rng = np.random.default_rng(0)
+    a = rng.standard_normal((n, n)).astype(dtype)
+    b = rng.standard_normal((n, n)).astype(dtype)
+    a @ b  # warm up (threads started, pages touched)
+    best = float("inf")
+    for _ in range(repeats):
+        start = time.perf_counter()
+        a @ b
+        best = min(best, time.perf_counter() - start)
+    out[name] = 2.0 * n**3 / best / 1e9
+print(json.dumps(out))
+"""
+
+#: The environment variables that set the BLAS libraries' thread counts.
+BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def gemm_gflops(threads: int, *, size: int = 2048, repeats: int = 5) -> dict[str, float]:
+    """SGEMM and DGEMM GFLOP/s (2 n^3 per product, the best of ``repeats``) on ``threads``
+    BLAS threads, in a child process so that the thread count takes effect."""
+    env = {**os.environ, **dict.fromkeys(BLAS_THREADS, str(threads))}
+    code = CHILD.format(size=size, repeats=repeats)
+    out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True,
+                         text=True, env=env)  # fmt: skip
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def cpu_description() -> dict[str, str | int]:
+    """The CPU's model name, its widest vector unit in bits (from the kernel's flags: 512 with
+    AVX-512F, 256 with AVX2, 128 otherwise) and the logical CPUs."""
+    model, flags = platform.processor() or "unknown", set()
+    cpuinfo = Path("/proc/cpuinfo")
+    if cpuinfo.is_file():
+        for line in cpuinfo.read_text(encoding="utf-8", errors="replace").splitlines():
+            key, _, value = line.partition(":")
+            if key.strip() == "model name":
+                model = value.strip()
+            elif key.strip() == "flags":
+                flags = set(value.split())
+    width = 512 if "avx512f" in flags else 256 if "avx2" in flags else 128
+    return {"model": model, "vector_bits": width, "logical_cpus": os.cpu_count() or 1}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--threads", type=int, nargs="*", default=[1, os.cpu_count() or 1])
+    parser.add_argument("--size", type=int, default=2048)
+    args = parser.parse_args()
+    cpu = cpu_description()
+    print(f"{cpu['model']}, {cpu['vector_bits']}-bit vectors, {cpu['logical_cpus']} logical CPUs")
+    for threads in sorted(set(args.threads)):
+        g = gemm_gflops(threads, size=args.size)
+        print(f"{threads} thread(s): SGEMM {g['sgemm']:.1f} GFLOP/s, "
+              f"DGEMM {g['dgemm']:.1f} GFLOP/s")
+
+
+if __name__ == "__main__":
+    main()
