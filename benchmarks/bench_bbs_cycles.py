@@ -22,10 +22,10 @@ import time
 
 import numpy as np
 
-from batball.lab.bbs import IN
 from batball.models.bbs import BbsSetup, build_bbs_model, relaxation_cycles
 from batball.solvers.ball_bat import HISTORY_COLUMNS, CoupledControls, CoupledSolver
 from batball.specs import load_ball_spec, load_bat_spec
+from batball.units import IN
 
 
 def main() -> None:
