@@ -19,6 +19,7 @@ from batball.lab.barrel import (
     compress_barrel,
     compress_barrel_with_friction,
     insert_friction,
+    run_barrel_compression,
     with_platen_friction,
 )
 from batball.models.barrel import (
@@ -148,3 +149,19 @@ def test_sticking_platens_are_the_glued_solve_with_the_platens_sliding_motion(fi
     assert touching[top].sum() >= 2 and touching[~top].sum() >= 2
     assert np.abs(moved[touching & top]).max() > 0.01 * travel  # a point off the apex slides
     assert stuck.force[0] == pytest.approx(force, rel=1e-6)
+
+
+def test_the_bats_own_insert_friction_is_the_tests_default(coarse) -> None:  # noqa: ANN001
+    """A bat file's ``[insert] friction`` is what the test runs with when no ``friction`` option
+    is given: the same curve as that coefficient passed to the frictional solve (two routes to
+    one computation; 1e-9 for round-off), and a given option overrides it."""
+    model, prestress = coarse
+    rubbing = dataclasses.replace(model.spec, insert=dataclasses.replace(model.spec.insert,
+                                                                         friction=0.2))
+    model_mu = dataclasses.replace(model, spec=rubbing)
+    one = dataclasses.replace(OPTIONS, orientations_deg=(0.0,))
+    by_bat = run_barrel_compression(model_mu, prestress, one).curves[0].force
+    direct = compress_barrel_with_friction(model, prestress, one, 0.0, 0.2).force
+    np.testing.assert_allclose(by_bat, direct, rtol=1e-9)
+    assert one.for_bat(rubbing).insert_friction == 0.2
+    assert dataclasses.replace(one, friction=0.0).for_bat(rubbing).insert_friction == 0.0

@@ -33,19 +33,23 @@ EXPORTS = ("ccor", "cor", "compression", "modal", "barrel", "bbs")
 NOT_IN_DECK: dict[str, dict[str, tuple[Any, str]]] = {
     "modal": {"insert": ("bonded", "bonded (the deck ties the insert to the barrel)")},
     "barrel": {
-        "friction": (0.0, "0 (the deck's insert contact is frictionless)"),
+        "friction": (None, "not set or 0 (the deck's insert contact is frictionless)"),
         "platen_friction": (0.0, "0 (the deck's platen contacts are frictionless)"),
         "solver": ("static", "static (the deck is the implicit static test)"),
         "shell": (None, "not set (the deck is the implicit static test)"),
         "hourglass_ratio": (None, "not set (the deck is the implicit static test)"),
     },
     "bbs": {
-        "insert_friction": (0.0, "0 (the deck's interference contact is frictionless)"),
+        "insert_friction": (None, "not set or 0 (the deck's interference contact is "
+                                  "frictionless)"),
         "bat_damping": (0.0, "0 1/s (the deck has no damping of the bat's deformation)"),
         "shell": ("bt", "bt (the deck's shells are Belytschko-Tsay, ELFORM 2)"),
         "hourglass_ratio": (None, "not set (the deck writes no hourglass card for the shells)"),
     },
 }
+
+#: The insert's friction options: not set (the bat's, which a deck requires to be 0) or 0.
+FRICTIONS = ("friction", "insert_friction")
 
 #: ``batball export barrel``'s one option of its own: the deck holds one orientation.
 ORIENTATION = Option("orientation", 0.0, "bat rotation about its axis, 0 or 90 deg",
@@ -98,7 +102,8 @@ def export_setup(name: str, args: argparse.Namespace) -> tuple[Any, dict[str, An
     cannot carry, set to anything else, is refused before anything is built."""
     values = parse_options(export_options(name), args)
     for option, (carried, what) in NOT_IN_DECK.get(name, {}).items():
-        if values[option] != carried:
+        frictionless = option in FRICTIONS and values[option] == 0.0
+        if values[option] != carried and not frictionless:
             raise SpecError(f"export {name} --{option.replace('_', '-')}", values[option], what)
     test = LAB_TESTS[name]
     return test.build({o.name: values[o.name] for o in test.options}), values
@@ -121,6 +126,12 @@ def run_export_command(args: argparse.Namespace) -> int:
     from batball.lsdyna.bat import barrel_deck, bbs_deck, modal_deck
 
     spec = subjects["bat"]
+    given = [values[o] for o in FRICTIONS if o in values]
+    rubs = spec.insert is not None and spec.insert.friction > 0.0
+    if args.test in ("barrel", "bbs") and rubs and None in given:
+        raise SpecError(f"bat {spec.name} insert.friction", spec.insert.friction,
+                        "0 for a deck (its insert contact is frictionless), or the test's "
+                        "friction option set to 0")  # fmt: skip
     mesh = {"circumferential": setup.circumferential, "axial_size": setup.axial_size}
     if args.test == "modal":
         text = modal_deck(spec, n_modes=setup.modes, **common, **mesh)

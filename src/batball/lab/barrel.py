@@ -342,10 +342,12 @@ def table2_loads(curves: Sequence[CompressionCurve],
 
 def run_barrel_compression(model: BarrelModel, prestress: Prestress,
                            options: BarrelTestOptions) -> BarrelResult:  # fmt: skip
-    """The compression at every orientation of ``options`` from the pre-stressed state."""
+    """The compression at every orientation of ``options`` from the pre-stressed state (the
+    insert's friction the bat's unless ``options`` give one)."""
+    options = options.for_bat(model.spec)
     if options.frictional:
         curves = tuple(compress_barrel_with_friction(model, prestress, options, angle,
-                                                     options.friction,
+                                                     options.insert_friction,
                                                      platen_mu=options.platen_friction)
                        for angle in options.orientations_deg)  # fmt: skip
     else:

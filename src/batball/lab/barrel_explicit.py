@@ -472,6 +472,7 @@ def run_explicit_compression(
     with them), ``record`` is called with each new one as soon as it is done; ``store``, the
     runs folder that keeps the relaxed fit (:func:`press_fit`)."""
     finished = {} if finished is None else finished
+    test = test.for_bat(spec)
     state = build_explicit_bat(spec, options)
     press_fit(state, options, store=store, reuse=reuse)
     fitted = capture_fit(state.points, state.shells.state, [state.fit])
@@ -482,8 +483,8 @@ def run_explicit_compression(
             continue
         restore_fit(fitted, state.points, state.shells.state, [state.fit])
         state.velocity[:] = 0.0
-        if test.friction > 0.0:
-            state.fit.start_friction(test.friction, state.points)
+        if test.insert_friction > 0.0:
+            state.fit.start_friction(test.insert_friction, state.points)
         curves.append(squeeze(state, test, options, angle, curve=k < test.curve_orientations))
         if record is not None:
             record(curves[-1])

@@ -160,7 +160,7 @@ def table2_summary(spec: BatSpec, curves: list[CompressionCurve],
             },
             "orientation_deg": curve.orientation_deg,
         },  # fmt: skip
-        "insert_friction": options.friction,
+        "insert_friction": options.insert_friction,
         "platen_friction": options.platen_friction,
         "platen_diameter_in": options.platen_diameter / IN,
         "platen_from_cap_in": options.distance_from_cap / IN,
@@ -280,7 +280,7 @@ def run_barrel_test(
     reuse: bool = True,
 ) -> tuple[dict[str, Any], Path]:
     """Pre-stress (or reuse it), compress at every orientation; the summary and the run folder."""
-    options = BarrelTestOptions() if options is None else options
+    options = (BarrelTestOptions() if options is None else options).for_bat(spec)
     base = prestress_inputs(spec, circumferential, axial_size, options, ramp_steps)
     folder = run_folder(runs_dir, "barrel", {**base, "protocol": repr(options)})
     cached = load_cached_summary(folder) if reuse else None
@@ -347,6 +347,7 @@ def run_explicit_barrel_test(spec: BatSpec, *, runs_dir: Path, options: BarrelTe
     The relaxed fit is kept in ``fit-<hash>`` and reused by later runs of the same bat model
     (:mod:`batball.lab.fit_store`); each orientation is kept as it finishes
     (``orientation_<deg>deg.json``), so an interrupted run resumes after the last one done."""
+    options = options.for_bat(spec)
     inputs = {"bat": bat_spec_to_toml_dict(spec), "protocol": repr(options),
               "explicit": repr(explicit), "batball": __version__}  # fmt: skip
     folder = run_folder(runs_dir, "barrel-explicit", inputs)

@@ -42,6 +42,7 @@ from batball.models.bbs import (
     build_bbs_model,
     insert_pressure,
     relaxation_cycles,
+    with_bat_friction,
 )
 from batball.solvers.ball_bat import (
     RELAX_FACTOR,
@@ -80,7 +81,7 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup, *, store: Path | None = None
             solver.bat_points, solver.shell_state, inserts, reuse=reuse,
         )  # fmt: skip
         pressure = insert_pressure(model, solver.points)
-    if setup.insert_friction > 0.0:
+    if setup.insert_friction:  # run_bbs settles the bat's (with_bat_friction); a deck has none
         for pair in inserts:
             if isinstance(pair, ColumnContact):
                 pair.start_friction(setup.insert_friction, solver.points)
@@ -203,7 +204,7 @@ def run_bbs(bat: BatSpec, ball: BallSpec, setup: BbsSetup, *, store: Path | None
             reuse: bool = True) -> BbsResult:  # fmt: skip
     """Build, run and measure one batted-ball-speed test (``store``: the runs folder that keeps
     the bat's relaxed fit, :func:`run_bbs_model`)."""
-    setup = with_ball_hourglass(setup, ball)
+    setup = with_bat_friction(with_ball_hourglass(setup, ball), bat)
     model = build_bbs_model(bat, ball, setup)
     run = run_bbs_model(model, setup, store=store, reuse=reuse)
     return BbsResult(bat, ball, setup, model, run, measure_bbs(model, run, setup))

@@ -20,7 +20,7 @@ import numpy as np
 from batball.lab.bbs import BbsResult, run_bbs
 from batball.mesh import Mesh, ShellMesh
 from batball.models.ball import ball_hourglass, with_ball_hourglass
-from batball.models.bbs import BbsSetup
+from batball.models.bbs import BbsSetup, with_bat_friction
 from batball.results.fields import write_time_series
 from batball.results.plots import plot_force_time
 from batball.results.store import (
@@ -38,7 +38,7 @@ from batball.version import __version__
 
 def bbs_inputs(bat: BatSpec, ball: BallSpec, setup: BbsSetup) -> dict[str, Any]:
     """Everything that determines a run, JSON-able: the key of its run folder."""
-    setup = with_ball_hourglass(setup, ball)
+    setup = with_bat_friction(with_ball_hourglass(setup, ball), bat)
     return {
         "bat": bat_spec_to_toml_dict(bat),
         "ball": ball_spec_to_toml_dict(ball),

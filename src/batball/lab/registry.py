@@ -307,8 +307,9 @@ BARREL = LabTest(
         Option("ramp_steps", 1, "static steps removing the insert's overlap (1: the fit is "
                "linear and frictionless, so its end state does not depend on the path)",
                kind="int", check=lambda n: n >= 1, allowed="an integer >= 1"),
-        Option("friction", 0.0, "Coulomb coefficient between insert and barrel during the "
-               "squeeze (0, as the seed; the fit itself stays frictionless)", kind="float"),
+        Option("friction", None, "Coulomb coefficient between insert and barrel during the "
+               "squeeze (default: the bat's insert friction, 0 on the embedded bats as in the "
+               "seed; the fit itself stays frictionless)", kind="float"),
         Option("platen_friction", 0.0, "Coulomb coefficient between the platens and the "
                "barrel (0, as the seed)", kind="float"),
         Option("solver", "static", "static: linear MITC4 shells, penalty contact, small "
@@ -344,8 +345,9 @@ BBS = LabTest(
                "step (LS-DYNA DT2MS < 0): barrel (the barrel's or the ball's step), off, or the "
                "target step, e.g. '2e-7 s'", dimension="time",
                words={"barrel": "barrel", "off": None}),
-        Option("insert_friction", 0.0, "Coulomb coefficient between insert and barrel during "
-               "the impact (0, as the seed; the fit is pressed frictionless)", kind="float"),
+        Option("insert_friction", None, "Coulomb coefficient between insert and barrel during "
+               "the impact (default: the bat's insert friction, 0 on the embedded bats as in "
+               "the seed; the fit is pressed frictionless)", kind="float"),
         Option("bat_damping", "0 1/s", "damping c of the bat's deformation relative to its "
                "rigid turn, e.g. '1000 1/s' (as LS-DYNA *DAMPING_RELATIVE; 0: none, as the "
                "seed)", dimension="frequency"),

@@ -30,7 +30,7 @@ from batball.elements.shell_stiffness import (
     ShellSection,
     assemble_shell_stiffness,
 )
-from batball.errors import SpecError
+from batball.errors import SimulationError, SpecError
 from batball.mesh.bat import (
     DEFAULT_AXIAL_SIZE,
     DEFAULT_CIRCUMFERENTIAL,
@@ -63,9 +63,10 @@ class BarrelTestOptions:
             solved at the preload and final travel only.
         penalty_factor: contact penalty per area over the stiffest hoop membrane stiffness
             A22 / R^2 of the barrel or insert (dimensionless).
-        friction: Coulomb coefficient between insert and barrel during the compression (0:
-            frictionless, the seed's; > 0 solves every orientation in load steps over the curve
-            levels, :func:`compress_barrel_with_friction`).
+        friction: Coulomb coefficient between insert and barrel during the compression (None,
+            the default: the bat's own, ``InsertSpec.friction``, resolved by :meth:`for_bat`;
+            0: frictionless, the seed's; > 0 solves every orientation in load steps over the
+            curve levels, :func:`compress_barrel_with_friction`).
         platen_friction: Coulomb coefficient between the platens and the barrel's outer surface
             (0: frictionless, the seed's; > 0 solves as ``friction`` does).
     """
@@ -79,19 +80,37 @@ class BarrelTestOptions:
     final_steps: int = 5
     curve_orientations: int = 1
     penalty_factor: float = 1e3
-    friction: float = 0.0
+    friction: float | None = None
     platen_friction: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("friction", "platen_friction"):
             mu = getattr(self, name)
-            if not (np.isfinite(mu) and 0.0 <= mu <= 10.0):
+            if mu is not None and not (np.isfinite(mu) and 0.0 <= mu <= 10.0):
                 raise SpecError(name, mu, "a coefficient 0 .. 10")
+
+    def for_bat(self, spec: BatSpec) -> BarrelTestOptions:
+        """These options with the insert's friction settled: the bat's own where not given."""
+        if self.friction is not None:
+            return self
+        return replace(self, friction=spec.insert.friction if spec.insert else 0.0)
+
+    @property
+    def insert_friction(self) -> float:
+        """The insert's Coulomb coefficient (the options settled by :meth:`for_bat`).
+
+        Raises:
+            SimulationError: options not yet settled for a bat.
+        """
+        if self.friction is None:
+            raise SimulationError("barrel compression: the insert's friction is the bat's; "
+                                  "settle the options with for_bat(spec) first")  # fmt: skip
+        return self.friction
 
     @property
     def frictional(self) -> bool:
         """Whether any contact of the squeeze has friction."""
-        return self.friction > 0.0 or self.platen_friction > 0.0
+        return self.insert_friction > 0.0 or self.platen_friction > 0.0
 
     def travels(self, *, curve: bool) -> np.ndarray:
         """Platen travels solved, m: all curve levels or just (preload, preload + final)."""

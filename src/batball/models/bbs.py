@@ -14,7 +14,7 @@ LS-DYNA's DT2MS < 0.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -91,7 +91,9 @@ class BbsSetup:
         precision: the ball's hex kernel, "single" (default, as the impact lab and LS-DYNA's
             default executable) or "double" (docs/notes/precision.md).
         insert_friction: Coulomb coefficient between insert and barrel during the impact (the
-            fit is pressed frictionless; 0, the default, as the seed's contact).
+            fit is pressed frictionless); None, the default: the bat's own
+            (``InsertSpec.friction``, 0 on the embedded bats as in the seed), settled by
+            :func:`with_bat_friction`.
         shell_hourglass_ratio: r of the bat shells' hourglass constants (LS-DYNA's default
             0.01; the barrel test's squeeze needs 1, docs/notes/barrel.md).
         bat_damping: damping of the bat's deformation relative to its own rigid turn about
@@ -129,7 +131,7 @@ class BbsSetup:
     mass_scaling: float | str | None = "barrel"
     contact_reach: float | None = 3.0 * IN
     precision: str = "single"
-    insert_friction: float = 0.0
+    insert_friction: float | None = None
     shell_hourglass_ratio: float = HOURGLASS_RATIO
     bat_damping: float = 0.0
     bat_shell: str = "bt"
@@ -146,8 +148,9 @@ class BbsSetup:
         if not 8 <= self.circumferential <= 256:
             raise SpecError("circumferential", self.circumferential, "an integer 8..256")
         check_precision(self.precision)
-        if not (np.isfinite(self.insert_friction) and 0.0 <= self.insert_friction <= 10.0):
-            raise SpecError("insert_friction", self.insert_friction, "a coefficient 0 .. 10")
+        mu = self.insert_friction
+        if mu is not None and not (np.isfinite(mu) and 0.0 <= mu <= 10.0):
+            raise SpecError("insert_friction", mu, "a coefficient 0 .. 10")
         check_hourglass_ratio("shell_hourglass_ratio", self.shell_hourglass_ratio)
         if self.bat_shell not in SHELLS:
             raise SpecError("bat_shell", self.bat_shell, " or ".join(SHELLS))
@@ -203,6 +206,14 @@ class BbsModel:
     def z(self) -> float:
         """Pivot-to-impact distance [m]."""
         return self.impact_x - self.pivot_x
+
+
+def with_bat_friction(setup: BbsSetup, bat: BatSpec) -> BbsSetup:
+    """``setup`` with the insert's friction settled: the bat's own where the setup gives none,
+    so that a run's key, summary and model name the coefficient it ran with."""
+    if setup.insert_friction is not None:
+        return setup
+    return replace(setup, insert_friction=bat.insert.friction if bat.insert else 0.0)
 
 
 def check_hourglass_ratio(field: str, ratio: float) -> None:

@@ -75,7 +75,9 @@ FITTED_BATS: tuple[str, ...] = ("fitted",)
 
 BAT_KEYS = ("name", "description", "length", "materials", "profile", "parts", "insert")
 PART_KEYS = ("name", "start", "end", "layup", "lumped_mass")
-INSERT_KEYS = ("start", "end", "layup", "interference")
+INSERT_KEYS = ("start", "end", "layup", "interference", "friction")
+#: The largest Coulomb coefficient an insert's interface may have (beyond about 5 it sticks).
+MAX_INSERT_FRICTION = 10.0
 PLY_KEYS = ("material", "thickness", "angle", "braided", "label")
 
 MAX_LENGTH = 2.0  # m; any bat (softball bats are at most 34 in = 0.8636 m)
@@ -129,12 +131,17 @@ class InsertSpec:
         layup: plies from the inner surface outward.
         interference: radial overlap of the insert's outer surface with the barrel's inner
             surface before assembly, m (the delta of docs/physics.md section 8, case 9).
+        friction: the interface's Coulomb coefficient once fitted, used by the tests that load
+            the insert (barrel compression, batted-ball speed; the fit itself is pressed
+            frictionless): 0 slides freely (the seed's), a large value (5 and more) sticks, the
+            limit of a bonded insert; at most :data:`MAX_INSERT_FRICTION`.
     """
 
     start: float
     end: float
     layup: tuple[PlySpec, ...]
     interference: float = 0.0
+    friction: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -296,6 +303,9 @@ def _check_insert(spec: BatSpec) -> None:
         )
     if not (math.isfinite(insert.interference) and insert.interference >= 0.0):
         raise SpecError("insert.interference", insert.interference, ">= 0 in")
+    if not (math.isfinite(insert.friction) and 0.0 <= insert.friction <= MAX_INSERT_FRICTION):
+        raise SpecError("insert.friction", insert.friction,
+                        f"a Coulomb coefficient 0 .. {MAX_INSERT_FRICTION:g}")  # fmt: skip
     _check_layup(spec, insert.layup, insert.start, insert.end, field="insert.layup")
     if not spec.laminate(insert.layup).thickness < spec.insert_outer_radius():
         raise SpecError("insert.layup", "too thick", "a wall thinner than the barrel's bore radius")
@@ -448,7 +458,8 @@ def _part_from_dict(table: Mapping[str, Any], *, field: str) -> PartSpec:
 def _insert_from_dict(table: object) -> InsertSpec:
     """The ``[insert]`` table."""
     if not isinstance(table, Mapping):
-        raise SpecError("insert", table, "a table with start, end, layup and interference")
+        raise SpecError("insert", table, "a table with start, end, layup, interference and "
+                        "friction")  # fmt: skip
     _reject_unknown_keys(table, list(INSERT_KEYS), prefix="insert.")
     return InsertSpec(
         start=_quantity(table, "start", "length", field="insert.start"),
@@ -457,7 +468,15 @@ def _insert_from_dict(table: object) -> InsertSpec:
         interference=parse_quantity(
             table.get("interference", "0 in"), "length", field="insert.interference"
         ),
+        friction=_coefficient(table.get("friction", 0.0), field="insert.friction"),
     )
+
+
+def _coefficient(value: object, *, field: str) -> float:
+    """A dimensionless number from TOML (a number, not a string with a unit)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise SpecError(field, value, "a number without a unit, e.g. 0.3")
+    return float(value)
 
 
 def list_embedded_bats() -> list[str]:
@@ -550,4 +569,6 @@ def bat_spec_to_toml_dict(spec: BatSpec) -> dict[str, Any]:
             "interference": _length_text(spec.insert.interference),
             "layup": _layup_to_list(spec.insert.layup),
         }
+        if spec.insert.friction > 0.0:  # written only when set, so older run keys still match
+            document["insert"]["friction"] = round(spec.insert.friction, _TOML_DIGITS)
     return document
