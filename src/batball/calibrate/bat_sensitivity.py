@@ -38,8 +38,11 @@ from batball.units import IN, OZ
 #: Default plausible spread (one standard deviation) of a free parameter, by kind: a braid
 #: angle 5 deg (a mandrel's braid angle varies with its diameter by more), a ply thickness 15 %
 #: of its value (a reconstruction's plies are textbook thicknesses), a lumped mass 0.5 oz (an
-#: end cap or knob plug nobody weighed).
-DEFAULT_SPREAD = {"angle": math.radians(5.0), "thickness": 0.15, "lumped_mass": 0.5 * OZ}
+#: end cap or knob plug nobody weighed), the insert's Coulomb coefficient 0.3 (from the seed's
+#: frictionless start; carbon-epoxy laminates slide dry at 0.2-0.35 on fresh surfaces and up to
+#: about 0.7 once worn in: docs/physics.md, "Friction at the insert").
+DEFAULT_SPREAD = {"angle": math.radians(5.0), "thickness": 0.15, "lumped_mass": 0.5 * OZ,
+                  "friction": 0.3}  # fmt: skip
 
 
 def default_spread(parameter: FreeParameter, spec: BatSpec) -> float:

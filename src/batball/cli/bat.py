@@ -45,12 +45,25 @@ def add_fit_bat_parser(sub: Any) -> None:
         "weighted by its measurement resolution, regularised by each parameter's spread)",
     )
     p.add_argument(
+        "--barrel",
+        action="store_true",
+        help="with --to joint: Table 2's preload and final load as targets too (--preload, "
+        "--final-load; resolutions 5 and 3 %%), each evaluation the explicit, geometrically "
+        "nonlinear squeeze on MITC4 shells at the four orientations (about a minute on the "
+        "32 x 0.2 in mesh, several on the full one)",
+    )
+    p.add_argument("--preload", default="186 lbf", help="with --barrel: target preload "
+                   "(seed Table 2: 186 lbf)")  # fmt: skip
+    p.add_argument("--final-load", default="368 lbf", help="with --barrel: target final load "
+                   "(seed Table 2: 368 lbf)")  # fmt: skip
+    p.add_argument(
         "--spread",
         action="append",
         default=[],
         help="NAME=VALUE: a free parameter's plausible spread (one standard deviation) with its "
-        "unit, e.g. 'lumped_mass:endcap=0.5 oz'; repeat (default: 5 deg for an angle, 15 %% of "
-        "a thickness, 0.5 oz for a lumped mass); used by --to joint and --sensitivity",
+        "unit, e.g. 'lumped_mass:endcap=0.5 oz', 'friction:insert=0.3'; repeat (default: 5 deg "
+        "for an angle, 15 %% of a thickness, 0.5 oz for a lumped mass, 0.3 for the insert's "
+        "friction); used by --to joint and --sensitivity",
     )
     p.add_argument(
         "--sensitivity",
@@ -62,8 +75,9 @@ def add_fit_bat_parser(sub: Any) -> None:
     p.add_argument(
         "--free",
         action="append",
-        help="a parameter to adjust: lumped_mass:<part>, thickness:<ply label>[@<part>+...] or "
-        "angle:<ply label>[@<part>+...]; repeat it (default for --to mass: lumped_mass:endcap, "
+        help="a parameter to adjust: lumped_mass:<part>, thickness:<ply label>[@<part>+...], "
+        "angle:<ply label>[@<part>+...] or friction:insert (the insert's Coulomb coefficient, "
+        "seen only with --barrel); repeat it (default for --to mass: lumped_mass:endcap, "
         "thickness:handle-glass, thickness:barrel-carbon; for --to hoop: "
         "angle:barrel-carbon@barrel-1+barrel-2+barrel-3+endcap; for --to joint: those four "
         "and angle:handle-glass@knob+handle-1+handle-2+handle-3)",
@@ -118,6 +132,8 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
             raise SpecError("output", str(args.output), "no --output with --sensitivity (it "
                             "fits nothing; --json writes its report)")  # fmt: skip
         check_output_file("output", args.output)
+    if args.barrel and args.to != "joint":
+        raise SpecError("barrel", f"--to {args.to}", "--to joint (Table 2 joins Tables 1 and 3)")
     if args.spread and args.to != "joint":
         raise SpecError("spread", " ".join(args.spread), "--to joint (only the joint fit and "
                         "--sensitivity use spreads)")  # fmt: skip
@@ -145,8 +161,8 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
 
 def fit_targets(args: argparse.Namespace, pivot: float) -> Any:
     """The targets of ``--to``: mass, hoop or both with the bending frequencies (joint)."""
-    from batball.calibrate.bat_fit import JointTargets, MassTargets, ModalTargets
-    from batball.units import parse_quantity
+    from batball.calibrate.bat_fit import BarrelTargets, JointTargets, MassTargets, ModalTargets
+    from batball.units import LBF, parse_quantity
 
     hoop = frequencies("hoop", args.hoop)
     mass = MassTargets(
@@ -161,7 +177,15 @@ def fit_targets(args: argparse.Namespace, pivot: float) -> Any:
     if args.to == "hoop":
         return ModalTargets(hoop_hz=hoop, **store)
     bending = frequencies("bending", args.bending)
-    return JointTargets((mass, ModalTargets(hoop_hz=hoop, bending_hz=bending, **store)))
+    parts: tuple[Any, ...] = (mass, ModalTargets(hoop_hz=hoop, bending_hz=bending, **store))
+    if args.barrel:
+        loads = tuple(parse_quantity(text, "force", field=name) / LBF for name, text in
+                      (("preload", args.preload), ("final-load", args.final_load)))  # fmt: skip
+        for name, value in zip(("preload", "final-load"), loads, strict=True):
+            if not value > 0.0:
+                raise SpecError(name, f"{value:g} lbf", "a positive load, e.g. '186 lbf'")
+        parts = (*parts, BarrelTargets(wanted_lbf=loads, **store))
+    return JointTargets(parts)
 
 
 def frequencies(field: str, texts: list[str]) -> tuple[float, ...]:
@@ -182,6 +206,11 @@ def parameter_spreads(texts: list[str], free: tuple[Any, ...], spec: Any) -> tup
     from batball.units import parse_quantity
 
     def parse(kind: str, value: str) -> float:
+        if kind == "friction":
+            try:
+                return float(value)
+            except ValueError:
+                raise SpecError("spread", value, "a number without a unit, e.g. 0.3") from None
         if kind == "angle":
             return parse_angle(value, field="spread")
         return parse_quantity(value, "mass" if kind == "lumped_mass" else "length", field="spread")

@@ -542,6 +542,9 @@ def relax_fit(pairs: Sequence[SegmentContact | ColumnContact], *, interference: 
     Returns:
         The bat's kinetic energy at the end over its largest value (LS-DYNA's DRTOL measure);
         ``history`` receives the kinetic energy of every cycle [J].
+
+    Raises:
+        SimulationError: the kinetic energy stops being finite (the relaxation diverged).
     """
     overlaps = [pair.gap_offset.copy() for pair in pairs]
     bat_points = points[: mass.shape[0]]
@@ -555,6 +558,12 @@ def relax_fit(pairs: Sequence[SegmentContact | ColumnContact], *, interference: 
         central_difference(forces(), mass, velocity, dt, dt, bat_points, moving)
         velocity *= factor
         kinetic = 0.5 * float(np.sum(mass * velocity**2))
+        if not np.isfinite(kinetic):
+            raise SimulationError(
+                f"insert fit relaxation: the bat's kinetic energy is not finite at cycle "
+                f"{step + 1} of {ramp_steps + settle_steps} (step {dt:.3g} s): the relaxation "
+                "diverged; a finer bat mesh or a smaller step"
+            )
         peak = max(peak, kinetic)
         if history is not None:
             history.append(kinetic)
