@@ -103,5 +103,5 @@ def test_a_deck_refuses_a_bat_whose_insert_rubs(tmp_path, capsys) -> None:  # no
     assert main(["export", "barrel", "--bat", str(path), "-o", str(tmp_path / "b.k")]) == 2
     assert "insert.friction" in capsys.readouterr().err
     # the test's own option set to 0 is what the deck carries
-    assert main(["export", "barrel", "--bat", str(path), "--friction", "0",
-                 "-o", str(tmp_path / "b.k")]) == 0  # fmt: skip
+    assert main(["export", "barrel", "--bat", str(path), "--friction", "0", "--circumferential",
+                 "16", "--axial-size", "0.5 in", "-o", str(tmp_path / "b.k")]) == 0  # fmt: skip
