@@ -177,12 +177,15 @@ def ensemble_study_from_dict(document: Mapping[str, Any], *,
         if str(p) not in given:
             return default_spread(p, spec)
         value, where = given[str(p)], f"bat.spread.{p}"
-        found = (
-            parse_angle(value, field=where)
-            if p.kind == "angle"
-            else _quantity(value, "mass" if p.kind == "lumped_mass" else "length", where)
-        )
-        if not found > 0:
+        if p.kind == "friction":  # a Coulomb coefficient: a number without a unit
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise SpecError(where, value, "a positive number without a unit, e.g. 0.3")
+            found = float(value)
+        elif p.kind == "angle":
+            found = parse_angle(value, field=where)
+        else:
+            found = _quantity(value, "mass" if p.kind == "lumped_mass" else "length", where)
+        if not (math.isfinite(found) and found > 0):
             raise SpecError(where, value, "a positive spread with its unit")
         return found
 

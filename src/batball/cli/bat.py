@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -50,12 +51,13 @@ def add_fit_bat_parser(sub: Any) -> None:
         help="with --to joint: Table 2's preload and final load as targets too (--preload, "
         "--final-load; resolutions 5 and 3 %%), each evaluation the explicit, geometrically "
         "nonlinear squeeze on MITC4 shells at the four orientations (about a minute on the "
-        "32 x 0.2 in mesh, several on the full one)",
+        "32 x 0.2 in mesh, several on the full one; the loads are the mesh's own, and a coarse "
+        "mesh's are stiff: 8-11 %% on 32 x 0.2 in)",
     )
-    p.add_argument("--preload", default="186 lbf", help="with --barrel: target preload "
-                   "(seed Table 2: 186 lbf)")  # fmt: skip
-    p.add_argument("--final-load", default="368 lbf", help="with --barrel: target final load "
-                   "(seed Table 2: 368 lbf)")  # fmt: skip
+    p.add_argument("--preload", help="with --barrel: target preload (default seed Table 2's "
+                   "186 lbf)")  # fmt: skip
+    p.add_argument("--final-load", help="with --barrel: target final load (default seed Table "
+                   "2's 368 lbf)")  # fmt: skip
     p.add_argument(
         "--spread",
         action="append",
@@ -134,6 +136,9 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
         check_output_file("output", args.output)
     if args.barrel and args.to != "joint":
         raise SpecError("barrel", f"--to {args.to}", "--to joint (Table 2 joins Tables 1 and 3)")
+    for name in ("preload", "final_load"):
+        if getattr(args, name) is not None and not args.barrel:
+            raise SpecError(name.replace("_", "-"), getattr(args, name), "only with --barrel")
     if args.spread and args.to != "joint":
         raise SpecError("spread", " ".join(args.spread), "--to joint (only the joint fit and "
                         "--sensitivity use spreads)")  # fmt: skip
@@ -141,6 +146,9 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
     targets = fit_targets(args, pivot)
     default_free = {"mass": DEFAULT_FREE, "hoop": DEFAULT_HOOP_FREE, "joint": DEFAULT_JOINT_FREE}
     free = tuple(FreeParameter.parse(text) for text in (args.free or default_free[args.to]))
+    if not args.barrel and any(p.kind == "friction" for p in free):
+        raise SpecError("free", "friction:insert", "only with --barrel (no other target sees "
+                        "the insert's friction)")  # fmt: skip
     spreads = parameter_spreads(args.spread, free, spec)
     if args.sensitivity:
         if args.to != "joint":
@@ -161,7 +169,13 @@ def run_fit_bat_command(args: argparse.Namespace) -> int:
 
 def fit_targets(args: argparse.Namespace, pivot: float) -> Any:
     """The targets of ``--to``: mass, hoop or both with the bending frequencies (joint)."""
-    from batball.calibrate.bat_fit import BarrelTargets, JointTargets, MassTargets, ModalTargets
+    from batball.calibrate.bat_fit import (
+        BarrelTargets,
+        JointTargets,
+        MassTargets,
+        ModalTargets,
+        seed_table2_lbf,
+    )
     from batball.units import LBF, parse_quantity
 
     hoop = frequencies("hoop", args.hoop)
@@ -179,8 +193,10 @@ def fit_targets(args: argparse.Namespace, pivot: float) -> Any:
     bending = frequencies("bending", args.bending)
     parts: tuple[Any, ...] = (mass, ModalTargets(hoop_hz=hoop, bending_hz=bending, **store))
     if args.barrel:
-        loads = tuple(parse_quantity(text, "force", field=name) / LBF for name, text in
-                      (("preload", args.preload), ("final-load", args.final_load)))  # fmt: skip
+        seed = seed_table2_lbf()
+        given = (("preload", args.preload, seed[0]), ("final-load", args.final_load, seed[1]))
+        loads = tuple(default if text is None else parse_quantity(text, "force", field=name) / LBF
+                      for name, text, default in given)  # fmt: skip
         for name, value in zip(("preload", "final-load"), loads, strict=True):
             if not value > 0.0:
                 raise SpecError(name, f"{value:g} lbf", "a positive load, e.g. '186 lbf'")
@@ -208,9 +224,10 @@ def parameter_spreads(texts: list[str], free: tuple[Any, ...], spec: Any) -> tup
     def parse(kind: str, value: str) -> float:
         if kind == "friction":
             try:
-                return float(value)
+                found = float(value)
             except ValueError:
                 raise SpecError("spread", value, "a number without a unit, e.g. 0.3") from None
+            return found if math.isfinite(found) else -1.0  # refused below as not positive
         if kind == "angle":
             return parse_angle(value, field="spread")
         return parse_quantity(value, "mass" if kind == "lumped_mass" else "length", field="spread")
@@ -225,7 +242,8 @@ def parameter_spreads(texts: list[str], free: tuple[Any, ...], spec: Any) -> tup
         unit = PARAMETER_KINDS[kind].unit
         given[name] = parse(kind, value)
         if not given[name] > 0.0:
-            raise SpecError("spread", text, f"a positive spread, e.g. '{name}=1 {unit}'")
+            example = f"1 {unit}" if unit else "0.3"
+            raise SpecError("spread", text, f"a positive spread, e.g. '{name}={example}'")
     return tuple(given.get(str(p), default_spread(p, spec)) for p in free)
 
 

@@ -570,5 +570,5 @@ def bat_spec_to_toml_dict(spec: BatSpec) -> dict[str, Any]:
             "layup": _layup_to_list(spec.insert.layup),
         }
         if spec.insert.friction > 0.0:  # written only when set, so older run keys still match
-            document["insert"]["friction"] = round(spec.insert.friction, _TOML_DIGITS)
+            document["insert"]["friction"] = float(f"{spec.insert.friction:.{_TOML_DIGITS}g}")
     return document

@@ -90,9 +90,14 @@ def test_fit_bat_barrel_options_are_checked_before_anything_runs(capsys) -> None
     assert "--to joint" in capsys.readouterr().err
     assert main(["fit-bat", "--to", "joint", "--barrel", "--preload", "0 lbf"]) == 2
     assert "preload" in capsys.readouterr().err
-    assert main(["fit-bat", "--to", "joint", "--free", "friction:insert", "--spread",
+    assert main(["fit-bat", "--to", "joint", "--barrel", "--free", "friction:insert", "--spread",
                  "friction:insert=0.2 mph"]) == 2  # fmt: skip
     assert "without a unit" in capsys.readouterr().err
+    # options that only Table 2 uses, and the parameter only Table 2 sees, need --barrel
+    assert main(["fit-bat", "--to", "joint", "--preload", "190 lbf"]) == 2
+    assert "only with --barrel" in capsys.readouterr().err
+    assert main(["fit-bat", "--to", "joint", "--free", "friction:insert"]) == 2
+    assert "only with --barrel" in capsys.readouterr().err
 
 
 def test_a_deck_refuses_a_bat_whose_insert_rubs(tmp_path, capsys) -> None:  # noqa: ANN001
