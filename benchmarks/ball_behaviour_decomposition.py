@@ -163,9 +163,10 @@ def run_case(ball_name: str, numerics: dict[str, Any], mph: int, target: str, ba
         test = LAB_TESTS["bbs"]
         # a bat that gives nothing (held, rigid) holds a soft ball longer than the 2-ms default
         longer = {} if target == "flexible bat" else {"end_time": "4 ms"}
+        # the BT shells this decomposition was run with (docs/fidelity.md, 2026-11-28)
         setup = test.setup(speed=f"{mph} mph", divisions=divisions, circumferential=around,
-                           axial_size=axial, rigid_bat=target == "rigid bat", **longer,
-                           **numerics)  # fmt: skip
+                           axial_size=axial, rigid_bat=target == "rigid bat", shell="bt",
+                           **longer, **numerics)  # fmt: skip
         bat = load_bat_spec(bat_name)
         if target == "held bat":
             setup = dataclasses.replace(setup, fixed_bat=True)

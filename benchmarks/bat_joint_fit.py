@@ -21,7 +21,8 @@ Steps, each stored under ``--runs-dir`` so that a second call replays them:
 3. the start and the fitted bat evaluated on the full mesh (48 x 0.1 in), so the residuals are
    the full model's;
 4. with ``--bbs BALL ...``, Table 9 on the jointly fitted bat at full size (BT shells, the model
-   of record's settings) for each ball: predicted cells, since no step above saw Table 9; and
+   of record's settings when it ran) for each ball: predicted cells, since no step above saw
+   Table 9; and
    for each parameter the targets leave unpinned (posterior over prior spread above 0.5), the
    same balls' BBS at 110 mph with that parameter one spread higher: how far what Tables 1 and 3
    cannot see moves Table 9; with ``--all-parameters`` every parameter's, and the bat's
@@ -180,7 +181,9 @@ def table9(bat: BatSpec, balls: list[str], runs_dir: Path, quick: bool,
     for name in balls:
         ball = load_ball_spec(name)
         for mph in speeds:
-            setup = test.setup(speed=f"{mph} mph", **sizes)
+            # the one-point BT shells these cells were stored with (the model of record's
+            # element when they ran; docs/decisions.md)
+            setup = test.setup(speed=f"{mph} mph", shell="bt", **sizes)
             summary, _ = test.execute({"bat": bat, "ball": ball}, setup, runs_dir=runs_dir,
                                       reuse=True)  # fmt: skip
             exp = seed.batted_ball_speed(ball.name, mph).bbs_exp / MPH

@@ -4,12 +4,12 @@ Usage: python benchmarks/bbs_shell_convergence.py [--runs-dir runs/shell-converg
        [--json out.json] [--balls type1-fit type2-fit] [--speed "110 mph"] [--workers 2]
        [--finest] [--quick]
 
-The one-point Belytschko-Tsay shells (the seed's and batball's default for the BBS test) and the
-fully integrated co-rotational MITC4 shells give different BBS on the same mesh (1.0-1.6 mph on
-the table mesh, docs/notes/bbs.md). Either difference is discretisation, and both elements
-converge to one BBS as the bat's mesh is refined, or it is not. This runs each ball at one
-speed on the joint bat (``benchmarks/bats/joint_bat.toml``, the ensemble's) with both elements
-on three bat meshes, circumferential x axial element size:
+The one-point Belytschko-Tsay shells (the seed's, and batball's default for the BBS test until
+this study chose MITC4) and the fully integrated co-rotational MITC4 shells give different BBS
+on the same mesh (1.0-1.6 mph on the table mesh, docs/notes/bbs.md). Either difference is
+discretisation, and both elements converge to one BBS as the bat's mesh is refined, or it is
+not. This runs each ball at one speed on the joint bat (``benchmarks/bats/joint_bat.toml``, the
+ensemble's) with both elements on three bat meshes, circumferential x axial element size:
 
     32 x 0.2 in, 48 x 0.1 in (the test's full size), 64 x 0.075 in,
 

@@ -118,8 +118,9 @@ def read_fields(run: Result | str | Path, *, deformed: bool = False) -> dict[str
     ``stress`` (xx, yy, zz, xy, yz, zx), ``von_mises``, ``pressure`` Pa and
     ``volumetric_strain`` ln(V/V0)) and ``"target"`` (the rigid target's surface); a bbs run
     has ``"ball"`` (the same fields) and ``"bat"`` (the shell mid-surface: ``displacement``,
-    ``velocity``, ``angular_velocity``, ``contact_force``; cell data ``von_mises``, the largest
-    over the plies). :mod:`batball.solvers.frames` defines each field.
+    ``velocity``, ``angular_velocity``, ``contact_force``; with ``shell="bt"`` cell data
+    ``von_mises``, the largest over the plies: the default MITC4 shells keep no ply stresses).
+    :mod:`batball.solvers.frames` defines each field.
 
     Args:
         run: a :class:`Result`, a run folder or one ``.pvd`` file.

@@ -81,10 +81,10 @@ def run_bbs_model(model: BbsModel, setup: BbsSetup, *, store: Path | None = None
             solver.bat_points, solver.shell_state, inserts, reuse=reuse,
         )  # fmt: skip
         pressure = insert_pressure(model, solver.points)
-    if setup.insert_friction:  # run_bbs settles the bat's (with_bat_friction); a deck has none
+    if model.insert_friction > 0.0:
         for pair in inserts:
             if isinstance(pair, ColumnContact):
-                pair.start_friction(setup.insert_friction, solver.points)
+                pair.start_friction(model.insert_friction, solver.points)
     result = solver.run()
     result.prestress_kinetic_ratio, result.interference_pressure = ratio, pressure
     result.prestress_reused = reused

@@ -55,9 +55,10 @@ AXIAL_SIZE = Option("axial_size", "0.1 in", "largest shell length along the bat"
                     dimension="length", check=lambda v: v > 0,
                     allowed="a positive length, e.g. '0.1 in'")  # fmt: skip
 PIVOT = Option("pivot", "6 in", "pivot distance from the knob end", dimension="length")
-SHELL = Option("shell", "bt", "the bat's explicit shells: bt, one-point Belytschko-Tsay, or "
-               "mitc4, the statics' MITC4 made co-rotational", kind="choice",
-               choices=("bt", "mitc4"))  # fmt: skip
+SHELL = Option("shell", "mitc4", "the bat's explicit shells: mitc4, the statics' MITC4 made "
+               "co-rotational (no hourglass modes; the element whose limit batball believes, "
+               "docs/decisions.md), or bt, the one-point Belytschko-Tsay shells of the seed's "
+               "LS-DYNA model", kind="choice", choices=("bt", "mitc4"))  # fmt: skip
 HOURGLASS_RATIO = Option("hourglass_ratio", None,
                          "hourglass ratio r of the bat's one-point shells, 0 < r <= 1 "
                          "(default LS-DYNA's 0.01)", kind="float")  # fmt: skip
@@ -179,6 +180,8 @@ def _build_bbs(values: Mapping[str, Any]) -> Any:
     from batball.models.bbs import BbsSetup
 
     ratio = values["hourglass_ratio"]
+    if ratio is not None and values["shell"] != "bt":
+        raise SpecError("hourglass-ratio", ratio, "only with --shell bt (MITC4 shells have none)")
     return BbsSetup(
         speed=values["speed"], pitch_speed=values["pitch_speed"],
         swing_speed=values["swing_speed"], impact_from_cap=values["impact"],
@@ -316,7 +319,8 @@ BARREL = LabTest(
                "displacements; explicit: shells relaxed at each travel, geometrically "
                "nonlinear (docs/notes/barrel.md)", kind="choice", choices=("static", "explicit")),
         SHELL.with_default(None, "with solver explicit: mitc4 (default), the statics' MITC4 "
-                           "shells made co-rotational, or bt, the BBS test's one-point shells"),
+                           "shells made co-rotational, or bt, the one-point Belytschko-Tsay "
+                           "shells of the seed's LS-DYNA model"),
         HOURGLASS_RATIO.with_default(None, "with shell bt: hourglass ratio r of the one-point "
                                      "shells, 0 < r <= 1 (default 1)"),
     ),
@@ -351,7 +355,9 @@ BBS = LabTest(
         Option("bat_damping", "0 1/s", "damping c of the bat's deformation relative to its "
                "rigid turn, e.g. '1000 1/s' (as LS-DYNA *DAMPING_RELATIVE; 0: none, as the "
                "seed)", dimension="frequency"),
-        HOURGLASS_RATIO, SHELL,
+        HOURGLASS_RATIO.with_default(None, "with --shell bt: hourglass ratio r of the one-point "
+                                     "shells, 0 < r <= 1 (default LS-DYNA's 0.01)"),
+        SHELL,
         replace(HOURGLASS_TYPE, help="the ball's hourglass control, LS-DYNA IHQ 1-5, replacing "
                 "the ball's own (its file's [hourglass], else viscous IHQ 1)"),
         replace(HOURGLASS_COEFFICIENT, help="the ball's QH/QM, replacing its own (its file's, "

@@ -113,6 +113,7 @@ def read_bbs_deck(
         time_step_scale=controls.time_step_scale, hourglass=_hourglass(bat.deck, [ball_pid]),
         bulk_viscosity=controls.bulk_viscosity, contact=ball_contact_options(bat, ball_pid),
         rigid_bat=band.size == bat.mesh.n_points, precision=precision, mass_scaling=mass_scaling,
+        insert_friction=0.0,  # the deck's insert contact is frictionless
         **mesh_sizes(bat),
     )  # fmt: skip
     where = bat.deck.nodal_rigid_bodies[0]["where"]

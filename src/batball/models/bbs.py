@@ -100,9 +100,12 @@ class BbsSetup:
             the pivot, c [1/s] (the form of LS-DYNA's ``*DAMPING_RELATIVE``,
             :func:`batball.solvers.ball_bat.advance_bat`; fraction of critical c / (4 pi f) at
             frequency f); 0, the default, as the seed (docs/notes/bbs.md, "(b) tested").
-        bat_shell: the bat's shell element, "bt" (default: the one-point Belytschko-Tsay
-            shells, as the seed's LS-DYNA model) or "mitc4" (the statics' MITC4 made
-            co-rotational, :mod:`batball.elements.shell_corotational`; no hourglass modes).
+        bat_shell: the bat's shell element, "bt" (the one-point Belytschko-Tsay shells, as
+            the seed's LS-DYNA model; this class's default, which a deck read from LS-DYNA and
+            the verification cases rely on) or "mitc4" (the statics' MITC4 made
+            co-rotational, :mod:`batball.elements.shell_corotational`; no hourglass modes; the
+            default of the test protocol, ``batball bbs`` and the registry, since its limit
+            does not hang on an hourglass ratio: docs/decisions.md).
     """
 
     speed: float = 110.0 * MPH
@@ -189,7 +192,8 @@ class BbsModel:
             selective mass scaling added to each shell [kg]; pivot_inertia: the bat's MOI about
             the pivot without that mass [kg m^2] (the k of the BBCOR is the real bat's);
             mass_scaling_step: the step below which that mass was added [s, TSSFAC applied],
-            None when none was (:func:`mass_scaling_target`).
+            None when none was (:func:`mass_scaling_target`); insert_friction: the Coulomb
+            coefficient of the insert's contact during the impact (the setup's, else the bat's).
     """
 
     coupled: CoupledModel
@@ -201,6 +205,7 @@ class BbsModel:
     added_mass: np.ndarray = field(default_factory=lambda: np.zeros(0))
     pivot_inertia: float = 0.0
     mass_scaling_step: float | None = None
+    insert_friction: float = 0.0
 
     @property
     def z(self) -> float:
@@ -438,8 +443,9 @@ def build_bbs_model(spec: BatSpec, ball: BallSpec, setup: BbsSetup) -> BbsModel:
                                  areal_mass=bat_areal_mass(spec, mesh))  # fmt: skip
     moi = moment_of_inertia_z(mesh.points, unscaled, bat.pivot)
     target = mass_scaling_target(mesh, bat.section, setup, ball_step)
+    friction = with_bat_friction(setup, spec).insert_friction
     return BbsModel(coupled, mesh, body.mesh.cells, impact_x, setup.pivot_from_knob, interference,
-                    added_mass, moi, target)  # fmt: skip
+                    added_mass, moi, target, friction or 0.0)  # fmt: skip
 
 
 def relaxation_cycles(setup: BbsSetup, step: float) -> tuple[int, int]:

@@ -10,6 +10,7 @@ import time
 from typing import Any
 
 from batball.report.reproduce_setup import (
+    CHECK_BAT_SHELL,
     CHECK_NUMERICS,
     FOAM_SFS,
     FULL_MESHES,
@@ -306,4 +307,4 @@ def run_bbs_check(inputs: Inputs) -> RunnerOutput:
     bat."""
     assert inputs.check_bat is not None
     return RunnerOutput(tuple(bbs_runs(inputs, inputs.check_bat, inputs.check_balls, "check/",
-                                       **CHECK_NUMERICS)))  # fmt: skip
+                                       shell=CHECK_BAT_SHELL, **CHECK_NUMERICS)))  # fmt: skip

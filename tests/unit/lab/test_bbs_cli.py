@@ -45,7 +45,8 @@ def test_bbs_json_has_the_keys_and_writes_the_run_folder(tmp_path: Path, capsys)
     [("--speed", "300 mph", "speed"), ("--pivot-band", "0 in", "pivot_band"),
      ("--speed", "95 lbf", "speed"), ("--insert-friction", "-0.2", "insert_friction"),
      ("--bat-damping", "1000 mph", "bat-damping"), ("--bat-damping", "-5 1/s", "bat_damping"),
-     ("--hourglass-ratio", "2", "shell_hourglass_ratio")],
+     ("--hourglass-ratio", "0.5", "hourglass-ratio: 0.5 is not allowed; expected only with "
+      "--shell bt")],
 )  # fmt: skip
 def test_bad_input_names_the_field(tmp_path: Path, capsys, option: str, value: str,
                                    field: str) -> None:  # fmt: skip
@@ -90,11 +91,17 @@ def test_a_second_speed_restores_the_stored_fit(tmp_path: Path, capsys) -> None:
     code, out, _ = run_cli([*base, "--speed", "110 mph"], capsys)
     assert code == 0
     assert "restored from the store" in out
-    # the co-rotational MITC4 shells are another bat model: their own fit, relaxed anew
-    code, out, _ = run_cli([*base, "--speed", "110 mph", "--shell", "mitc4"], capsys)
+    # the one-point BT shells are another bat model: their own fit, relaxed anew
+    code, out, _ = run_cli([*base, "--speed", "110 mph", "--shell", "bt"], capsys)
     assert code == 0
-    assert "relaxed in this run" in out and "MITC4 shells" in out
+    assert "relaxed in this run" in out and "BT shells" in out
     assert len(list(tmp_path.glob("fit-*"))) == 2
+
+
+def test_a_bad_hourglass_ratio_of_the_bt_shells_names_the_field(tmp_path: Path, capsys) -> None:
+    args = ["bbs", "--shell", "bt", "--hourglass-ratio", "2", *COARSE, "--runs-dir", str(tmp_path)]
+    code, _, err = run_cli(args, capsys)
+    assert code == 2 and "shell_hourglass_ratio" in err
 
 
 def test_setup_rejects_an_unknown_shell() -> None:

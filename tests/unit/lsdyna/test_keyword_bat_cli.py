@@ -52,8 +52,9 @@ def test_exported_bbs_deck_runs_with_the_keys_of_batball_bbs(
     capsys.readouterr()
     assert main(["run", str(deck), "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
-    direct_args = ["bbs", *MESH, "--ball-divisions", "3", "--pivot-band", "0.5 in", "--json",
-                   "--runs-dir", str(tmp_path)]  # fmt: skip
+    # the deck's shells are the seed's Belytschko-Tsay ones (ELFORM 2)
+    direct_args = ["bbs", *MESH, "--ball-divisions", "3", "--pivot-band", "0.5 in", "--shell",
+                   "bt", "--json", "--runs-dir", str(tmp_path)]  # fmt: skip
     assert main(direct_args) == 0
     direct = json.loads(capsys.readouterr().out)
     assert summary.keys() >= direct.keys()
