@@ -399,7 +399,7 @@ class BarrelTargets:
     mesh. With ``runs_dir`` each test is stored there and an interrupted fit replays it.
     ``correction`` multiplies the computed loads (one factor per load): a fit on a coarse mesh
     aims at the full mesh's loads when it is their ratio at the start (the 32 x 0.2 in mesh
-    makes Table 2's loads about 7 % stiffer than the 48 x 0.1 in one, docs/notes/barrel.md).
+    makes the explicit squeeze's loads 8-11 % stiffer than the 48 x 0.1 in one, docs/fidelity.md).
 
     The loads are averages over the last part of each hold of a dynamic relaxation, deterministic
     for a given bat: the barrel wall's thickness moved by 0.1 % and by 1 % gives slopes of the
