@@ -309,7 +309,7 @@ def central_difference(
                 points[n, k] += dt_new * velocity[n, k]
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, fastmath=FASTMATH, parallel=True)
 def advance_ball(
     forces: np.ndarray,
     contact: np.ndarray,
@@ -326,25 +326,36 @@ def advance_ball(
     v += h (f + f_c) / m, x += dt_new v; ``out`` (7,) receives the contact work on the ball
     (f_c times the increment (v_old dt_old + v_new dt_new) / 2, the displacement over the step
     centred on this cycle), the kinetic energy, the sum of m v (3), the angular momentum about
-    the z axis through ``pivot`` (at the new positions) and the contact force along y [N]."""
-    out[:] = 0.0
-    for n in range(forces.shape[0]):
+    the z axis through ``pivot`` (at the new positions) and the contact force along y [N].
+
+    The nodes are split over the threads; the sums are reductions (each thread's part added in
+    thread order), so they change at round-off with the thread count, the motion does not."""
+    work = kinetic = px = py = pz = spin = pull = 0.0
+    for n in nb.prange(forces.shape[0]):
         m = mass[n]
-        for k in range(3):
-            v_old = velocity[n, k]
-            v = v_old + half * (forces[n, k] + contact[n, k]) / m
-            velocity[n, k] = v
-            out[0] += contact[n, k] * 0.5 * (v_old * dt_old + v * dt_new)
-            out[1] += 0.5 * m * v * v
-            out[2 + k] += m * v
-            points[n, k] += dt_new * v
+        old0, old1, old2 = velocity[n, 0], velocity[n, 1], velocity[n, 2]
+        v0 = old0 + half * (forces[n, 0] + contact[n, 0]) / m
+        v1 = old1 + half * (forces[n, 1] + contact[n, 1]) / m
+        v2 = old2 + half * (forces[n, 2] + contact[n, 2]) / m
+        velocity[n, 0], velocity[n, 1], velocity[n, 2] = v0, v1, v2
+        work += (contact[n, 0] * 0.5 * (old0 * dt_old + v0 * dt_new)
+                 + contact[n, 1] * 0.5 * (old1 * dt_old + v1 * dt_new)
+                 + contact[n, 2] * 0.5 * (old2 * dt_old + v2 * dt_new))  # fmt: skip
+        kinetic += 0.5 * m * (v0 * v0 + v1 * v1 + v2 * v2)
+        px += m * v0
+        py += m * v1
+        pz += m * v2
+        points[n, 0] += dt_new * v0
+        points[n, 1] += dt_new * v1
+        points[n, 2] += dt_new * v2
         rx = points[n, 0] - pivot[0]
         ry = points[n, 1] - pivot[1]
-        out[5] += m * (rx * velocity[n, 1] - ry * velocity[n, 0])
-        out[6] += contact[n, 1]
+        spin += m * (rx * v1 - ry * v0)
+        pull += contact[n, 1]
+    out[0], out[1], out[2], out[3], out[4], out[5], out[6] = work, kinetic, px, py, pz, spin, pull
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, fastmath=FASTMATH, parallel=True)
 def advance_bat(
     forces: np.ndarray,
     contact: np.ndarray,
@@ -382,7 +393,6 @@ def advance_bat(
     reaction, is unstable at the shells' step.) With c > 0 the damping forces are added to
     ``forces`` (in place) and kept in ``damping_forces`` (n, 6), so that the undamped update
     runs the same loop as without."""
-    out[:] = 0.0
     torque = 0.0
     for i in range(band.shape[0]):
         n = band[i]
@@ -395,9 +405,11 @@ def advance_bat(
     if damping > 0.0:
         add_relative_damping(forces, mass, velocity, points, moving, pivot, damping,
                              damping_forces)  # fmt: skip
-    for n in range(forces.shape[0]):
+    internal = external = kinetic = spin = 0.0
+    for n in nb.prange(forces.shape[0]):  # the sums are reductions (advance_ball)
         rx = points[n, 0] - pivot[0]
         ry = points[n, 1] - pivot[1]
+        node_internal = node_external = node_kinetic = 0.0
         for k in range(6):
             v_old = velocity[n, k]
             f_contact = contact[n, k] if k < 3 else 0.0
@@ -411,15 +423,19 @@ def advance_bat(
                 v = w if k == 5 else 0.0
             velocity[n, k] = v
             increment = 0.5 * (v_old * dt_old + v * dt_new)
-            out[0] += forces[n, k] * increment
-            out[1] += f_contact * increment
-            out[2] += 0.5 * mass[n, k] * v * v
+            node_internal += forces[n, k] * increment
+            node_external += f_contact * increment
+            node_kinetic += 0.5 * mass[n, k] * v * v
+        internal += node_internal
+        external += node_external
+        kinetic += node_kinetic
         for k in range(3):  # a band node's z velocity is 0
             points[n, k] += dt_new * velocity[n, k]
         rx = points[n, 0] - pivot[0]
         ry = points[n, 1] - pivot[1]
-        out[3] += mass[n, 0] * (rx * velocity[n, 1] - ry * velocity[n, 0])
-        out[3] += mass[n, 5] * velocity[n, 5]
+        spin += (mass[n, 0] * (rx * velocity[n, 1] - ry * velocity[n, 0])
+                 + mass[n, 5] * velocity[n, 5])  # fmt: skip
+    out[0], out[1], out[2], out[3], out[4] = internal, external, kinetic, spin, 0.0
     if damping > 0.0:
         split_damping_work(forces, contact, mass, velocity, moving, damping_forces, half, dt_old,
                            dt_new, out)  # fmt: skip

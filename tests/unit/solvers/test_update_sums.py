@@ -1,0 +1,78 @@
+"""The coupled cycle's update (solvers/ball_bat.advance_ball, advance_bat), split over threads:
+the motion is the central-difference formula node by node, the same bits on any thread count,
+and the bookkeeping sums are the NumPy sums of the same terms (to round-off: the threads' parts
+are added in another order, 1e-12 relative allowed against about 1e-14 seen)."""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+import pytest
+
+from batball.solvers.ball_bat import advance_ball, advance_bat
+
+N = 5000
+H, DT_OLD, DT_NEW = 1.0e-7, 1.0e-7, 1.1e-7
+PIVOT = np.array([0.1, 0.2, 0.0])
+
+
+@pytest.fixture
+def threads():  # noqa: ANN201
+    before = numba.get_num_threads()
+    yield (1, min(2, numba.config.NUMBA_NUM_THREADS))
+    numba.set_num_threads(before)
+
+
+def test_the_ball_update_is_the_formula_and_its_sums_on_any_thread_count(threads) -> None:  # noqa: ANN001
+    rng = np.random.default_rng(3)
+    f, c = rng.normal(size=(N, 3)), 0.1 * rng.normal(size=(N, 3))
+    m, v0, x0 = rng.uniform(1, 2, N), rng.normal(size=(N, 3)), rng.normal(size=(N, 3))
+    v = v0 + H * (f + c) / m[:, None]
+    x = x0 + DT_NEW * v
+    r = x - PIVOT
+    expected = [np.sum(c * 0.5 * (v0 * DT_OLD + v * DT_NEW)), np.sum(0.5 * m[:, None] * v * v),
+                *np.sum(m[:, None] * v, axis=0),
+                np.sum(m * (r[:, 0] * v[:, 1] - r[:, 1] * v[:, 0])), np.sum(c[:, 1])]  # fmt: skip
+    for count in threads:
+        numba.set_num_threads(count)
+        velocity, points, out = v0.copy(), x0.copy(), np.zeros(7)
+        advance_ball(f, c, m, velocity, points, PIVOT, H, DT_OLD, DT_NEW, out)
+        np.testing.assert_allclose(velocity, v, rtol=1e-14, atol=0)
+        np.testing.assert_allclose(points, x, rtol=1e-14, atol=1e-300)
+        np.testing.assert_allclose(out, expected, rtol=1e-12)
+
+
+def test_the_bat_update_moves_free_nodes_and_turns_the_band_on_any_thread_count(threads) -> None:  # noqa: ANN001
+    rng = np.random.default_rng(4)
+    f, c = rng.normal(size=(N, 6)), 0.1 * rng.normal(size=(N, 3))
+    m, v0, x0 = rng.uniform(1, 2, (N, 6)), rng.normal(size=(N, 6)), rng.normal(size=(N, 3))
+    moving = rng.uniform(size=N) > 0.05
+    band = np.flatnonzero(~moving)
+    inertia = 3.0
+    r0 = x0 - PIVOT
+    fx, fy = f[band, 0] + c[band, 0], f[band, 1] + c[band, 1]
+    torque = np.sum(r0[band, 0] * fy - r0[band, 1] * fx + f[band, 5])
+    w = 0.5 + H * torque / inertia
+    full_c = np.hstack([c, np.zeros((N, 3))])
+    v = v0 + H * (f + full_c) / m
+    v[band] = 0.0
+    v[band, 0], v[band, 1], v[band, 5] = -w * r0[band, 1], w * r0[band, 0], w
+    x = x0 + DT_NEW * v[:, :3]
+    r = x - PIVOT
+    step = 0.5 * (v0 * DT_OLD + v * DT_NEW)
+    expected = [np.sum(f * step), np.sum(full_c * step), np.sum(0.5 * m * v * v),
+                np.sum(m[:, 0] * (r[:, 0] * v[:, 1] - r[:, 1] * v[:, 0]) + m[:, 5] * v[:, 5]),
+                0.0]  # fmt: skip
+    motions = []
+    for count in threads:
+        numba.set_num_threads(count)
+        velocity, points, omega, out = v0.copy(), x0.copy(), np.array([0.5]), np.zeros(5)
+        advance_bat(f.copy(), c, m, velocity, points, moving, band, PIVOT, inertia, omega, 0.0,
+                    np.zeros((N, 6)), H, DT_OLD, DT_NEW, out)  # fmt: skip
+        np.testing.assert_allclose(velocity, v, rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(points, x, rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(out[:4], expected[:4], rtol=1e-12)
+        assert out[4] == 0.0 and omega[0] == pytest.approx(w, rel=1e-14)
+        motions.append((velocity, points))
+    for a, b in zip(motions[0], motions[-1], strict=True):
+        np.testing.assert_array_equal(a, b)  # the motion does not depend on the threads
