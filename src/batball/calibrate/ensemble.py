@@ -130,13 +130,34 @@ def load_ensemble_study(path: str | Path) -> EnsembleStudy:
     return ensemble_study_from_dict(document, base=path.parent)
 
 
+def _spread_of(p: FreeParameter, given: dict[str, Any], spec: BatSpec) -> float:
+    """A free parameter's spread: ``bat.spread`` gives it (an angle or a quantity with its unit,
+    the friction a number), else its default (:func:`default_spread`)."""
+    from batball.calibrate.bat_sensitivity import default_spread
+    from batball.specs.bat import parse_angle
+
+    if str(p) not in given:
+        return default_spread(p, spec)
+    value, where = given[str(p)], f"bat.spread.{p}"
+    if p.kind == "friction":  # a Coulomb coefficient: a number without a unit
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise SpecError(where, value, "a positive number without a unit, e.g. 0.3")
+        found = float(value)
+    elif p.kind == "angle":
+        found = parse_angle(value, field=where)
+    else:
+        found = _quantity(value, "mass" if p.kind == "lumped_mass" else "length", where)
+    if not (math.isfinite(found) and found > 0):
+        raise SpecError(where, value, "a positive spread with its unit")
+    return found
+
+
 def ensemble_study_from_dict(document: Mapping[str, Any], *,
                              base: Path = Path(".")) -> EnsembleStudy:  # fmt: skip
     """The study of a parsed TOML document (see :func:`load_ensemble_study`)."""
-    from batball.calibrate.bat_sensitivity import default_spread
     from batball.specs import load_ball_spec, load_bat_spec
     from batball.specs.ball import EMBEDDED_BALLS, FITTED_BALLS
-    from batball.specs.bat import EMBEDDED_BATS, FITTED_BATS, parse_angle
+    from batball.specs.bat import EMBEDDED_BATS, FITTED_BATS
 
     _known(document, "", _TOP)
     name = document.get("name")
@@ -173,22 +194,6 @@ def ensemble_study_from_dict(document: Mapping[str, Any], *,
         raise SpecError("bat.spread", given, f"a table NAME = 'VALUE UNIT' with NAME among "
                         f"bat.free: {', '.join(texts)}")  # fmt: skip
 
-    def spread_of(p: FreeParameter) -> float:
-        if str(p) not in given:
-            return default_spread(p, spec)
-        value, where = given[str(p)], f"bat.spread.{p}"
-        if p.kind == "friction":  # a Coulomb coefficient: a number without a unit
-            if isinstance(value, bool) or not isinstance(value, int | float):
-                raise SpecError(where, value, "a positive number without a unit, e.g. 0.3")
-            found = float(value)
-        elif p.kind == "angle":
-            found = parse_angle(value, field=where)
-        else:
-            found = _quantity(value, "mass" if p.kind == "lumped_mass" else "length", where)
-        if not (math.isfinite(found) and found > 0):
-            raise SpecError(where, value, "a positive spread with its unit")
-        return found
-
     targets = _bat_targets(bat_table.get("targets", {}))
     embedded = EMBEDDED_BALLS + FITTED_BALLS
     balls = tuple(_spec_path(v, base, "balls", embedded) for v in _list(document, "balls"))
@@ -208,8 +213,9 @@ def ensemble_study_from_dict(document: Mapping[str, Any], *,
         int(sens_mesh.get("circumferential", 32)),
         _quantity(sens_mesh.get("axial_size", "0.2 in"), "length", "bat.mesh.axial_size"),
     )
+    spread = tuple(_spread_of(p, given, spec) for p in free)
     return EnsembleStudy(
-        name=name, bat=bat, samples=samples, free=free, spread=tuple(map(spread_of, free)),
+        name=name, bat=bat, samples=samples, free=free, spread=spread,
         targets=targets, sensitivity_mesh=sensitivity_mesh, balls=balls, speeds=speeds,
         mesh=mesh, seed=seed,
     )  # fmt: skip

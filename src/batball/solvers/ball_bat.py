@@ -383,16 +383,9 @@ def advance_bat(
     of its nodes' forces about the axis, then every band node moves with omega e_z x r (its
     rotation rate omega e_z).
 
-    ``damping`` c [1/s] damps the bat's deformation, as LS-DYNA's ``*DAMPING_RELATIVE`` does
-    relative to a rigid body: each free node feels -c m (v - v_r), v_r its velocity in the free
-    nodes' mean rigid turn about the axis (omega_r e_z x r, rotation rate omega_r e_z, omega_r
-    their angular momentum over their MOI), from the velocities at the half step before. The
-    damping forces then have no net torque about the pivot (the angular momentum is kept)
-    and take energy out of the deformation only, at a fraction of critical c / (2 omega_i) in
-    mode i. (Damping relative to the small pivot band instead, with the band taking the
-    reaction, is unstable at the shells' step.) With c > 0 the damping forces are added to
-    ``forces`` (in place) and kept in ``damping_forces`` (n, 6), so that the undamped update
-    runs the same loop as without."""
+    ``damping`` c [1/s] damps the bat's deformation relative to its rigid turn
+    (:func:`add_relative_damping`); the free nodes run over the threads, the sums are
+    reductions (:func:`advance_ball`)."""
     torque = 0.0
     for i in range(band.shape[0]):
         n = band[i]
@@ -406,7 +399,7 @@ def advance_bat(
         add_relative_damping(forces, mass, velocity, points, moving, pivot, damping,
                              damping_forces)  # fmt: skip
     internal = external = kinetic = spin = 0.0
-    for n in nb.prange(forces.shape[0]):  # the sums are reductions (advance_ball)
+    for n in nb.prange(forces.shape[0]):
         rx = points[n, 0] - pivot[0]
         ry = points[n, 1] - pivot[1]
         node_internal = node_external = node_kinetic = 0.0
@@ -466,7 +459,17 @@ def add_relative_damping(forces: np.ndarray, mass: np.ndarray, velocity: np.ndar
                          points: np.ndarray, moving: np.ndarray, pivot: np.ndarray,
                          damping: float, damping_forces: np.ndarray) -> None:  # fmt: skip
     """-c m (v - v_r) on each free node into ``damping_forces`` and added to ``forces``, v_r
-    the free nodes' mean rigid turn about the pivot axis (:func:`advance_bat`)."""
+    the free nodes' mean rigid turn about the pivot axis, for :func:`advance_bat`.
+
+    c [1/s] damps the bat's deformation as LS-DYNA's ``*DAMPING_RELATIVE`` does relative to a
+    rigid body: v_r is a free node's velocity in the free nodes' mean rigid turn about the axis
+    (omega_r e_z x r, rotation rate omega_r e_z, omega_r their angular momentum over their
+    MOI), from the velocities at the half step before. The damping forces then have no net
+    torque about the pivot (the angular momentum is kept) and take energy out of the
+    deformation only, at a fraction of critical c / (2 omega_i) in mode i. (Damping relative to
+    the small pivot band instead, with the band taking the reaction, is unstable at the shells'
+    step.) The damping forces are added to ``forces`` in place and kept in ``damping_forces``
+    (n, 6), so that the undamped update runs the same loop as without."""
     momentum, moi = 0.0, 0.0
     for n in range(forces.shape[0]):
         if moving[n]:
