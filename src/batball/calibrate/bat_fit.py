@@ -408,7 +408,7 @@ class BarrelTargets:
     """
 
     loads: tuple[str, ...] = ("preload", "final_load")
-    wanted_lbf: tuple[float, ...] = dataclasses.field(default_factory=seed_table2_lbf)
+    wanted_lbf: tuple[float, ...] = ()  # empty: seed Table 2's, for the loads named
     orientations_deg: tuple[float, ...] = (0.0, 90.0, 45.0, -45.0)
     shell: str = "mitc4"
     correction: tuple[float, ...] = ()
@@ -423,9 +423,9 @@ class BarrelTargets:
         if not self.loads or any(load not in known for load in self.loads) or len(
             set(self.loads)) != len(self.loads):  # fmt: skip
             raise SpecError("barrel loads", list(self.loads), "preload and/or final_load")
-        if len(self.wanted_lbf) == 2 and len(self.loads) == 1:
-            wanted = self.wanted_lbf[known.index(self.loads[0])]
-            object.__setattr__(self, "wanted_lbf", (wanted,))
+        if not self.wanted_lbf:
+            seed = dict(zip(known, seed_table2_lbf(), strict=True))
+            object.__setattr__(self, "wanted_lbf", tuple(seed[load] for load in self.loads))
         if len(self.wanted_lbf) != len(self.loads) or not all(
             math.isfinite(w) and w > 0.0 for w in self.wanted_lbf
         ):
@@ -503,8 +503,8 @@ def joint_resolution(name: str, wanted: float) -> float:
         return JOINT_ABSOLUTE_RESOLUTION[name] / abs(wanted)
     key = "frequency_hz" if name.endswith("_hz") else name
     if key not in JOINT_RELATIVE_RESOLUTION:
-        raise SpecError("resolution", name, "a target with an assumed resolution: "
-                        "weight, balance point, MOI or a frequency")  # fmt: skip
+        raise SpecError("resolution", name, "a target with an assumed resolution: weight, "
+                        "balance point, MOI, a frequency, preload or final load")  # fmt: skip
     return JOINT_RELATIVE_RESOLUTION[key]
 
 
