@@ -6,8 +6,10 @@ step, the seconds per cycle by phase and the element-cycles per second, plus the
 whole run: the cycles a run needs (the pre-stress's, lab.bbs.relaxation_cycles, + the impact's
 simulated time over the step) times the measured cost (a pre-stress cycle, bat only, is counted
 as a whole cycle: an upper bound). ``--mass-scaling off`` measures without selective mass
-scaling. The machine's SGEMM GFLOP/s on the Numba thread count, measured in the same run
-(``yardstick.py``), gives the element-cycles per second per GFLOP/s, comparable between hosts.
+scaling; ``--shell`` picks the bat's shell element (default the co-rotational MITC4 of the
+batted-ball-speed test, ``bt`` the Belytschko-Tsay shells). The machine's SGEMM GFLOP/s on
+the Numba thread count, measured in the same run (``yardstick.py``), gives the element-cycles
+per second per GFLOP/s, comparable between hosts.
 Usage:
 
     NUMBA_NUM_THREADS=1 PYTHONPATH=src python benchmarks/bench_bbs_cycles.py \
@@ -22,6 +24,7 @@ import time
 
 import numpy as np
 
+from batball.elements.shell_corotational import SHELLS
 from batball.models.bbs import BbsSetup, build_bbs_model, relaxation_cycles
 from batball.solvers.ball_bat import HISTORY_COLUMNS, CoupledControls, CoupledSolver
 from batball.specs import load_ball_spec, load_bat_spec
@@ -35,12 +38,15 @@ def main() -> None:
     parser.add_argument("--axial-size-in", type=float, default=0.1)
     parser.add_argument("--cycles", type=int, default=300)
     parser.add_argument("--mass-scaling", choices=("barrel", "off"), default="barrel")
+    parser.add_argument("--shell", choices=SHELLS, default="mitc4",
+                        help="the bat's shell element (mitc4: the model of record's)")
     parser.add_argument("--simulated-ms", type=float, default=1.25,
                         help="impact run length to project to (1.25 ms: contact + 0.2 ms)")
     args = parser.parse_args()
     setup = BbsSetup(ball_divisions=args.ball_divisions, circumferential=args.circumferential,
                      axial_size=args.axial_size_in * IN, gap=0.0,
-                     mass_scaling=None if args.mass_scaling == "off" else "barrel")  # fmt: skip
+                     mass_scaling=None if args.mass_scaling == "off" else "barrel",
+                     bat_shell=args.shell)  # fmt: skip
     start = time.perf_counter()
     model = build_bbs_model(load_bat_spec("default"), load_ball_spec("type1"), setup)
     build = time.perf_counter() - start
@@ -60,7 +66,8 @@ def main() -> None:
     sgemm = gemm_gflops(numba.get_num_threads())["sgemm"]
     cycles = sum(relaxation_cycles(setup, solver.dt)) + args.simulated_ms * 1e-3 / solver.dt
     print(json.dumps({
-        "n_shells": n_shells, "n_hexes": n_hexes, "stable_step_s": solver.dt,
+        "bat_shell": args.shell, "n_shells": n_shells, "n_hexes": n_hexes,
+        "stable_step_s": solver.dt,
         "added_mass_g": float(model.added_mass.sum() * 1e3),
         "build_seconds": build, "seconds_per_cycle": seconds,
         "phase_seconds_per_cycle": {k: v / args.cycles for k, v in solver.phase_seconds.items()},

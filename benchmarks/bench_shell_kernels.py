@@ -24,11 +24,11 @@ import numpy as np
 from batball.elements.shell_bt import initial_force_state
 from batball.elements.shell_corotational import CorotationalShellForces
 from batball.elements.shell_stiffness import shell_section
-from batball.lab.bbs import IN
 from batball.models.bat import bat_laminates
 from batball.models.bbs import BbsSetup, bat_part
 from batball.solvers.ball_bat import ShellForces
 from batball.specs import load_bat_spec
+from batball.units import IN
 
 
 def main() -> None:

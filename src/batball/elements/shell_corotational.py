@@ -102,26 +102,25 @@ def advance_rotations(rotations: np.ndarray, velocity: np.ndarray, dt: float) ->
             rotations[n, 2, j] = q20 * r0 + q21 * r1 + q22 * r2
 
 
-@nb.njit(inline="always", fastmath=FASTMATH)
-def rotation_vector(m00: float, m01: float, m02: float, m10: float, m11: float, m12: float,
-                    m20: float, m21: float, m22: float) -> Vec3:  # fmt: skip
-    """The rotation vector (axis times angle) of the rotation matrix m (exact logarithm)."""
-    s0, s1, s2 = 0.5 * (m21 - m12), 0.5 * (m02 - m20), 0.5 * (m10 - m01)
-    sine2 = s0 * s0 + s1 * s1 + s2 * s2
-    cosine = 0.5 * (m00 + m11 + m22 - 1.0)
-    if sine2 < 1e-4 and cosine > 0.0:  # asin(s) / s to s^6 (relative error below 1e-12)
-        factor = 1.0 + sine2 * (1.0 / 6.0 + sine2 * (3.0 / 40.0 + sine2 * (5.0 / 112.0)))
-    else:
-        sine = np.sqrt(sine2)
-        factor = np.arctan2(sine, cosine) / sine
-    return factor * s0, factor * s1, factor * s2
-
-
-#: Cells per task of the parallel loops (and per SIMD sweep of the local product).
+#: Cells per task of the parallel loops, and the width of the kernel's SIMD loops.
 CHUNK = 64
 
+# A chunk's work array ``w`` holds one row per quantity and one column per cell (structure of
+# arrays, row r of column col at [r * CHUNK + col], the rows constant: LLVM then sees that the
+# loops over the columns carry no dependence and vectorises them): the corners' reference
+# positions in the undeformed frame, the current frame E's rows, the corners' cosines, the 24
+# deformational dofs (corner a's displacements at rows 6a..6a+2, rotations at 6a+3..6a+5; later
+# the global forces), and the 24 local forces.
+W_REF, W_FRAME, W_COS, W_D, W_F, W_ROWS = 0, 12, 21, 25, 49, 73
 
-@nb.njit(inline="always", fastmath=FASTMATH)
+
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def load3(w: np.ndarray, row: int, col: int) -> Vec3:
+    """Rows ``row`` to ``row + 2`` of column ``col`` of the work array."""
+    return w[row * CHUNK + col], w[(row + 1) * CHUNK + col], w[(row + 2) * CHUNK + col]
+
+
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def frame_row_times(e: Vec3, rotations: np.ndarray, n: int) -> Vec3:
     """The row vector e^T R_n."""
     return (e[0] * rotations[n, 0, 0] + e[1] * rotations[n, 1, 0] + e[2] * rotations[n, 2, 0],
@@ -129,54 +128,116 @@ def frame_row_times(e: Vec3, rotations: np.ndarray, n: int) -> Vec3:
             e[0] * rotations[n, 0, 2] + e[1] * rotations[n, 1, 2] + e[2] * rotations[n, 2, 2])
 
 
-@nb.njit(inline="always", fastmath=FASTMATH)
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def deformation(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
-                frames0: np.ndarray, reference: np.ndarray, c: int,
-                d: np.ndarray) -> tuple[Vec3, Vec3, Vec3, Vec3]:  # fmt: skip
-    """Cell ``c``'s deformational dofs into column c of ``d`` (24, n_cells; local frame),
-    returning its current frame (e1, e2, e3) and centroid."""
+                frames0: np.ndarray, reference: np.ndarray, c: int, w: np.ndarray,
+                col: int) -> None:  # fmt: skip
+    """Cell ``c`` into column ``col`` of the work array: its corners' reference positions, its
+    deformational displacements (local frame), its current frame's rows, and, of each corner's
+    rotation in the frames, E R_a E0^T, the cosine and the sine vector s (the axial vector of
+    the skew part, in the rotation rows, which :func:`rotation_vectors` turns into the rotation
+    vector). Scalar: its loads are gathers through ``cells``."""
     i0, i1, i2, i3 = cells[c, 0], cells[c, 1], cells[c, 2], cells[c, 3]
     x0 = (points[i0, 0], points[i0, 1], points[i0, 2])
     x1 = (points[i1, 0], points[i1, 1], points[i1, 2])
     x2 = (points[i2, 0], points[i2, 1], points[i2, 2])
     x3 = (points[i3, 0], points[i3, 1], points[i3, 2])
     e1, e2, e3 = element_frame(x0, x1, x2, x3)
+    for k in range(3):
+        w[(W_FRAME + k) * CHUNK + col] = e1[k]
+        w[(W_FRAME + 3 + k) * CHUNK + col] = e2[k]
+        w[(W_FRAME + 6 + k) * CHUNK + col] = e3[k]
     m = (0.25 * (x0[0] + x1[0] + x2[0] + x3[0]), 0.25 * (x0[1] + x1[1] + x2[1] + x3[1]),
          0.25 * (x0[2] + x1[2] + x2[2] + x3[2]))  # fmt: skip
+    f0 = (frames0[c, 0, 0], frames0[c, 0, 1], frames0[c, 0, 2])
+    f1 = (frames0[c, 1, 0], frames0[c, 1, 1], frames0[c, 1, 2])
+    f2 = (frames0[c, 2, 0], frames0[c, 2, 1], frames0[c, 2, 2])
     for a in range(4):
         n = cells[c, a]
-        r = (points[n, 0] - m[0], points[n, 1] - m[1], points[n, 2] - m[2])
-        d[6 * a, c] = e1[0] * r[0] + e1[1] * r[1] + e1[2] * r[2] - reference[c, a, 0]
-        d[6 * a + 1, c] = e2[0] * r[0] + e2[1] * r[1] + e2[2] * r[2] - reference[c, a, 1]
-        d[6 * a + 2, c] = e3[0] * r[0] + e3[1] * r[1] + e3[2] * r[2] - reference[c, a, 2]
+        ref = (reference[c, a, 0], reference[c, a, 1], reference[c, a, 2])
+        p = (points[n, 0] - m[0], points[n, 1] - m[1], points[n, 2] - m[2])
+        for k in range(3):
+            w[(W_REF + 3 * a + k) * CHUNK + col] = ref[k]
+        w[(W_D + 6 * a) * CHUNK + col] = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2] - ref[0]
+        w[(W_D + 6 * a + 1) * CHUNK + col] = e2[0] * p[0] + e2[1] * p[1] + e2[2] * p[2] - ref[1]
+        w[(W_D + 6 * a + 2) * CHUNK + col] = e3[0] * p[0] + e3[1] * p[1] + e3[2] * p[2] - ref[2]
         # the corner's rotation in the frames, E R_a E0^T, row by row
         r0 = frame_row_times(e1, rotations, n)
         r1 = frame_row_times(e2, rotations, n)
         r2 = frame_row_times(e3, rotations, n)
-        f0 = (frames0[c, 0, 0], frames0[c, 0, 1], frames0[c, 0, 2])
-        f1 = (frames0[c, 1, 0], frames0[c, 1, 1], frames0[c, 1, 2])
-        f2 = (frames0[c, 2, 0], frames0[c, 2, 1], frames0[c, 2, 2])
-        t0, t1, t2 = rotation_vector(dot3(r0, f0), dot3(r0, f1), dot3(r0, f2), dot3(r1, f0),
-                                     dot3(r1, f1), dot3(r1, f2), dot3(r2, f0), dot3(r2, f1),
-                                     dot3(r2, f2))  # fmt: skip
-        d[6 * a + 3, c], d[6 * a + 4, c], d[6 * a + 5, c] = t0, t1, t2
-    return e1, e2, e3, m
+        m01, m02, m10 = dot3(r0, f1), dot3(r0, f2), dot3(r1, f0)
+        m12, m20, m21 = dot3(r1, f2), dot3(r2, f0), dot3(r2, f1)
+        w[(W_D + 6 * a + 3) * CHUNK + col] = 0.5 * (m21 - m12)
+        w[(W_D + 6 * a + 4) * CHUNK + col] = 0.5 * (m02 - m20)
+        w[(W_D + 6 * a + 5) * CHUNK + col] = 0.5 * (m10 - m01)
+        w[(W_COS + a) * CHUNK + col] = 0.5 * (dot3(r0, f0) + dot3(r1, f1) + dot3(r2, f2) - 1.0)
 
 
-@nb.njit(inline="always", fastmath=FASTMATH)
-def balance_moment(reference: np.ndarray, c: int, d: np.ndarray, f: np.ndarray) -> None:
-    """Remove from the local forces in column c of ``f`` (24, n_cells) their moment about the
-    current centroid by the couple w x p_a, J w = -M, J = sum (|p|^2 I - p p^T), p_a =
-    reference + d the corners' current local positions (module docs)."""
+#: Below this squared sine (and at a positive cosine) a rotation's angle / sine is its series,
+#: asin(s) / s to s^6 (relative error below 1e-12); above it, atan2 (:func:`rotation_vectors`).
+SERIES_SINE2 = 1e-4
+
+
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def rotation_vectors(w: np.ndarray, n: int) -> None:
+    """The corners' rotation vectors (axis times angle, an exact logarithm) in the rotation rows
+    of ``d``, from the sine vectors s there and the cosines in ``w``: s times angle / |s|. The
+    series is taken over all CHUNK columns at once (the SIMD loop); the few corners with a
+    larger angle, among the first ``n`` columns, are then redone with atan2."""
+    for col in range(CHUNK):
+        for a in range(4):
+            s = load3(w, W_D + 6 * a + 3, col)
+            sine2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2]
+            series = 1.0 + sine2 * (1.0 / 6.0 + sine2 * (3.0 / 40.0 + sine2 * (5.0 / 112.0)))
+            small = sine2 < SERIES_SINE2 and w[(W_COS + a) * CHUNK + col] > 0.0
+            factor = series if small else 1.0
+            for k in range(3):
+                w[(W_D + 6 * a + 3 + k) * CHUNK + col] = factor * s[k]
+    for col in range(n):
+        for a in range(4):
+            s, cosine = load3(w, W_D + 6 * a + 3, col), w[(W_COS + a) * CHUNK + col]
+            sine2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2]
+            if sine2 < SERIES_SINE2 and cosine > 0.0:
+                continue
+            sine = np.sqrt(sine2)
+            factor = np.arctan2(sine, cosine) / sine
+            for k in range(3):
+                w[(W_D + 6 * a + 3 + k) * CHUNK + col] = factor * s[k]
+
+
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def local_product(stiffness: np.ndarray, w: np.ndarray) -> None:
+    """f = K d, ``stiffness`` K (24, 24): two rows of K at a time swept across all CHUNK
+    columns (a constant trip count and one load of d for two multiply-adds: the SIMD loop;
+    each sum still runs over j in order)."""
+    for i in range(0, 24, 2):
+        row0, row1 = (W_F + i) * CHUNK, (W_F + i + 1) * CHUNK
+        for col in range(CHUNK):
+            w[row0 + col] = 0.0
+            w[row1 + col] = 0.0
+        for j in range(24):
+            k0, k1, row = stiffness[i, j], stiffness[i + 1, j], (W_D + j) * CHUNK
+            for col in range(CHUNK):
+                dj = w[row + col]
+                w[row0 + col] += k0 * dj
+                w[row1 + col] += k1 * dj
+
+
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def balance_moment(w: np.ndarray, col: int) -> None:
+    """Remove from column ``col``'s local forces in ``f`` their moment about the current
+    centroid by the couple w x p_a, J w = -M, J = sum (|p|^2 I - p p^T), p_a = reference + d
+    the corners' current local positions (module docs)."""
     mx = my = mz = 0.0
     j00 = j11 = j22 = j01 = j02 = j12 = 0.0
     for a in range(4):
-        p = (reference[c, a, 0] + d[6 * a, c], reference[c, a, 1] + d[6 * a + 1, c],
-             reference[c, a, 2] + d[6 * a + 2, c])  # fmt: skip
-        t = cross(p, (f[6 * a, c], f[6 * a + 1, c], f[6 * a + 2, c]))
-        mx += t[0] + f[6 * a + 3, c]
-        my += t[1] + f[6 * a + 4, c]
-        mz += t[2] + f[6 * a + 5, c]
+        ref, u = load3(w, W_REF + 3 * a, col), load3(w, W_D + 6 * a, col)
+        p = (ref[0] + u[0], ref[1] + u[1], ref[2] + u[2])
+        t = cross(p, load3(w, W_F + 6 * a, col))
+        rotational = load3(w, W_F + 6 * a + 3, col)
+        mx += t[0] + rotational[0]
+        my += t[1] + rotational[1]
+        mz += t[2] + rotational[2]
         pp = dot3(p, p)
         j00 += pp - p[0] * p[0]
         j11 += pp - p[1] * p[1]
@@ -188,83 +249,105 @@ def balance_moment(reference: np.ndarray, c: int, d: np.ndarray, f: np.ndarray) 
     a00, a11, a22 = j11 * j22 - j12 * j12, j00 * j22 - j02 * j02, j00 * j11 - j01 * j01
     a01, a02, a12 = j02 * j12 - j01 * j22, j01 * j12 - j02 * j11, j01 * j02 - j00 * j12
     det = j00 * a00 + j01 * a01 + j02 * a02
-    w = (-(a00 * mx + a01 * my + a02 * mz) / det, -(a01 * mx + a11 * my + a12 * mz) / det,
-         -(a02 * mx + a12 * my + a22 * mz) / det)  # fmt: skip
+    couple = (-(a00 * mx + a01 * my + a02 * mz) / det, -(a01 * mx + a11 * my + a12 * mz) / det,
+              -(a02 * mx + a12 * my + a22 * mz) / det)  # fmt: skip
     for a in range(4):
-        p = (reference[c, a, 0] + d[6 * a, c], reference[c, a, 1] + d[6 * a + 1, c],
-             reference[c, a, 2] + d[6 * a + 2, c])  # fmt: skip
-        t = cross(w, p)
+        ref, u = load3(w, W_REF + 3 * a, col), load3(w, W_D + 6 * a, col)
+        t = cross(couple, (ref[0] + u[0], ref[1] + u[1], ref[2] + u[2]))
         for k in range(3):
-            f[6 * a + k, c] += t[k]
+            w[(W_F + 6 * a + k) * CHUNK + col] += t[k]
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
-def chunk_deformations(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
-                       frames0: np.ndarray, reference: np.ndarray, d: np.ndarray,
-                       frames: np.ndarray, first: int, stop: int) -> None:  # fmt: skip
-    """Cells ``first`` to ``stop``'s deformational dofs into their columns of ``d`` and their
-    current frames' rows into ``frames`` (a call, not inlined, so that the parallel loop's
-    array analysis does not see the frame's tuples)."""
-    for c in range(first, stop):
-        e1, e2, e3, _ = deformation(points, cells, rotations, frames0, reference, c, d)
-        for k in range(3):
-            frames[c, k], frames[c, 3 + k], frames[c, 6 + k] = e1[k], e2[k], e3[k]
+@nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
+def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
+                 frames0: np.ndarray, reference: np.ndarray, stiffness: np.ndarray,
+                 first: int, stop: int, cell_forces: np.ndarray) -> None:  # fmt: skip
+    """Cells ``first`` to ``stop`` (at most CHUNK, sharing ``stiffness`` (24, 24)): their
+    corner forces and moments in global axes into ``cell_forces`` (24 * CHUNK,), dof k of
+    the chunk's column col at [k * CHUNK + col]. Every step is a loop over all CHUNK columns
+    of the chunk's work array (in cache from one step to the next), the columns past the last
+    cell repeating it; all but the first (:func:`deformation`) are SIMD loops. A call, not
+    inlined, so that the parallel loop's array analysis does not see the frame's tuples."""
+    w = np.empty(W_ROWS * CHUNK)
+    for col in range(CHUNK):  # the columns past the last cell repeat it
+        deformation(points, cells, rotations, frames0, reference, min(first + col, stop - 1),
+                    w, col)  # fmt: skip
+    rotation_vectors(w, stop - first)
+    local_product(stiffness, w)
+    for col in range(CHUNK):
+        balance_moment(w, col)
+        e1, e2 = load3(w, W_FRAME, col), load3(w, W_FRAME + 3, col)
+        e3 = load3(w, W_FRAME + 6, col)
+        for k in range(0, 24, 3):  # each corner's forces and moments alike: E^T g, in d's rows
+            g = load3(w, W_F + k, col)
+            for i in range(3):
+                w[(W_D + k + i) * CHUNK + col] = e1[i] * g[0] + e2[i] * g[1] + e3[i] * g[2]
+    cell_forces[:] = w[W_D * CHUNK : (W_D + 24) * CHUNK]
 
 
 @nb.njit(parallel=True, cache=True)
-def cell_deformations(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
-                      frames0: np.ndarray, reference: np.ndarray, d: np.ndarray,
-                      frames: np.ndarray) -> None:  # fmt: skip
-    """Every cell's deformational dofs, ``d`` (24, n_cells) in its current frame, whose rows
-    go to ``frames`` (n_cells, 9); CHUNK cells a task."""
+def all_cell_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
+                    frames0: np.ndarray, reference: np.ndarray, stiffness: np.ndarray,
+                    chunk_start: np.ndarray, chunk_kind: np.ndarray,
+                    cell_forces: np.ndarray) -> None:  # fmt: skip
+    """Every cell's corner forces into ``cell_forces`` (n_chunks, 24 * CHUNK; see
+    :func:`chunk_forces`), a chunk of cells of one kind (``chunk_start``, (n_chunks + 1,);
+    ``chunk_kind``, (n_chunks,)) a task."""
+    for t in nb.prange(chunk_kind.shape[0]):
+        chunk_forces(points, cells, rotations, frames0, reference, stiffness[chunk_kind[t]],
+                     chunk_start[t], chunk_start[t + 1], cell_forces[t])  # fmt: skip
+
+
+@nb.njit(parallel=True, cache=True)
+def gather_negated(corner_start: np.ndarray, corner_slot: np.ndarray,
+                   cell_forces: np.ndarray, out: np.ndarray) -> None:  # fmt: skip
+    """out (n_points, 6) = minus the sum of the cells' corner forces ``cell_forces`` (n_chunks,
+    24 * CHUNK) (the forces on the nodes): node n's corners are at the flat positions
+    ``corner_slot[corner_start[n]:corner_start[n + 1]]`` (their first dof; the next at
+    + CHUNK each), in increasing cell order, so each node's sum is the same on any number of
+    threads."""
+    flat = cell_forces.ravel()
+    for n in nb.prange(out.shape[0]):
+        t0 = t1 = t2 = t3 = t4 = t5 = 0.0
+        for e in range(corner_start[n], corner_start[n + 1]):
+            at = corner_slot[e]
+            t0 -= flat[at]
+            t1 -= flat[at + CHUNK]
+            t2 -= flat[at + 2 * CHUNK]
+            t3 -= flat[at + 3 * CHUNK]
+            t4 -= flat[at + 4 * CHUNK]
+            t5 -= flat[at + 5 * CHUNK]
+        out[n, 0], out[n, 1], out[n, 2], out[n, 3], out[n, 4], out[n, 5] = t0, t1, t2, t3, t4, t5
+
+
+def kind_chunks(kind_start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The kernel's tasks: runs of at most CHUNK consecutive cells of one kind.
+
+    Returns:
+        (first cell of each chunk, then n_cells, (n_chunks + 1,); each chunk's kind).
+    """
+    starts, kinds = [], []
+    for k in range(kind_start.size - 1):
+        first = np.arange(kind_start[k], kind_start[k + 1], CHUNK)
+        starts.append(first)
+        kinds.append(np.full(first.size, k))
+    start = np.append(np.concatenate(starts), kind_start[-1]).astype(np.int64)
+    return start, np.concatenate(kinds).astype(np.int64)
+
+
+def node_corners(cells: np.ndarray, chunk_start: np.ndarray,
+                 n_points: int) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Each node's cell corners for :func:`gather_negated`: (start, (n_points + 1,); the flat
+    position of the corner's first dof in the kernel's (n_chunks, 24 * CHUNK) output, in
+    increasing cell order)."""
     n_cells = cells.shape[0]
-    for chunk in nb.prange((n_cells + CHUNK - 1) // CHUNK):
-        chunk_deformations(points, cells, rotations, frames0, reference, d, frames,
-                           chunk * CHUNK, min(n_cells, (chunk + 1) * CHUNK))  # fmt: skip
-
-
-@nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
-def local_forces(stiffness: np.ndarray, kind_start: np.ndarray, d: np.ndarray,
-                 f: np.ndarray) -> None:  # fmt: skip
-    """f = K d for every cell, ``d`` and ``f`` (24, n_cells) with the cells sorted by kind
-    (kind k's from ``kind_start[k]``), ``stiffness`` (n_kinds, 24, 24): chunks of CHUNK cells
-    of one kind, each row of K swept across a chunk's cells."""
-    for k in nb.prange(stiffness.shape[0]):
-        total = np.empty(CHUNK)
-        for first in range(kind_start[k], kind_start[k + 1], CHUNK):
-            n = min(kind_start[k + 1], first + CHUNK) - first
-            for i in range(24):
-                total[:] = 0.0
-                for j in range(24):
-                    kij = stiffness[k, i, j]
-                    dj = d[j, first : first + n]
-                    for c in range(n):
-                        total[c] += kij * dj[c]
-                f[i, first : first + n] = total[:n]
-
-
-@nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
-def global_cell_forces(reference: np.ndarray, d: np.ndarray, f: np.ndarray, frames: np.ndarray,
-                       out: np.ndarray) -> None:  # fmt: skip
-    """The local forces ``f`` (24, n_cells), their moment about each centroid removed, in
-    global axes into ``out`` (n_cells, 24): forces [N] and moments [N m] on the corners."""
-    for c in nb.prange(out.shape[0]):
-        balance_moment(reference, c, d, f)
-        for k in range(0, 24, 3):  # forces and moments of each corner alike
-            g0, g1, g2 = f[k, c], f[k + 1, c], f[k + 2, c]
-            for i in range(3):
-                out[c, k + i] = frames[c, i] * g0 + frames[c, 3 + i] * g1 + frames[c, 6 + i] * g2
-
-
-@nb.njit(cache=True)
-def scatter_negated(cells: np.ndarray, cell_forces: np.ndarray, out: np.ndarray) -> None:
-    """out (n_points, 6) = minus the sum of the cells' corner forces (forces on the nodes)."""
-    out[:] = 0.0
-    for c in range(cells.shape[0]):
-        for a in range(4):
-            n = cells[c, a]
-            for k in range(6):
-                out[n, k] -= cell_forces[c, 6 * a + k]
+    chunk = np.repeat(np.arange(chunk_start.size - 1), np.diff(chunk_start))
+    col = np.arange(n_cells) - chunk_start[chunk]
+    corner = np.arange(4)[None, :]
+    position = chunk[:, None] * 24 * CHUNK + 6 * corner * CHUNK + col[:, None]
+    slot = np.argsort(cells.ravel(), kind="stable")  # cell * 4 + corner, by node then cell
+    start = np.searchsorted(cells.ravel()[slot], np.arange(n_points + 1))
+    return start.astype(np.int64), position.ravel()[slot].astype(np.int64)
 
 
 #: Corner coordinates that differ by less than this are the same cell shape [m].
@@ -317,10 +400,10 @@ class CorotationalShellForces:
         stiffness = local_stiffness(local[first], local_section, drilling_factor)
         self.stiffness = np.ascontiguousarray(stiffness)
         self.state = initial_rotations(points.shape[0]) if state is None else state
-        n_cells = cells.shape[0]
-        self.d, self.f = np.zeros((2, 24, n_cells))
-        self.cell_forces = np.zeros((n_cells, 24))
-        self.frames = np.zeros((n_cells, 9))
+        self.chunk_start, self.chunk_kind = kind_chunks(self.kind_start)
+        self.corner_start, self.corner_slot = node_corners(self.cells, self.chunk_start,
+                                                           points.shape[0])  # fmt: skip
+        self.cell_forces = np.zeros((self.chunk_kind.size, 24 * CHUNK))
 
     def __call__(self, points: np.ndarray, velocity: np.ndarray, dt: float,
                  out: np.ndarray) -> None:  # fmt: skip
@@ -328,11 +411,10 @@ class CorotationalShellForces:
         the last step ``dt`` [s] (which first advances the nodes' rotations)."""
         rotations = self.state.history
         advance_rotations(rotations, velocity, dt)
-        cell_deformations(points, self.cells, rotations, self.frames0, self.reference, self.d,
-                          self.frames)  # fmt: skip
-        local_forces(self.stiffness, self.kind_start, self.d, self.f)
-        global_cell_forces(self.reference, self.d, self.f, self.frames, self.cell_forces)
-        scatter_negated(self.cells, self.cell_forces, out)
+        all_cell_forces(points, self.cells, rotations, self.frames0, self.reference,
+                        self.stiffness, self.chunk_start, self.chunk_kind,
+                        self.cell_forces)  # fmt: skip
+        gather_negated(self.corner_start, self.corner_slot, self.cell_forces, out)
 
 
 def critical_step(shells: CorotationalShellForces, mass: np.ndarray) -> float:
