@@ -4,7 +4,8 @@ Runs the whole test (mesh, model, explicit run to separation, measurements) once
 Numba kernels, then times it with 1 thread (the baseline in the same run) and with every thread,
 and prints wall time and hex element-cycles per second for each, also per GFLOP/s of the
 machine's SGEMM on the same threads, measured in the same run (``yardstick.py``), with the CPU's
-model and vector width. Usage:
+model and vector width, and the hex kernel's GFLOP/s from the flops it does per element-cycle
+(counted from the code, ``flop_counts.py``) as a fraction of that yardstick. Usage:
 
     python benchmarks/bench_ccor.py [--divisions 12] [--repeats 3] [--precision single]
 
@@ -54,6 +55,7 @@ def main() -> None:
     parser.add_argument("--threads", type=int, nargs="*", help="thread counts (default 1 and all)")
     args = parser.parse_args()
     import numba
+    from flop_counts import hex8_flops
     from yardstick import cpu_description, gemm_gflops
 
     cpu = cpu_description()
@@ -70,8 +72,11 @@ def main() -> None:
               f"wall {wall:.2f} s (median of {args.repeats}), solver {solver:.2f} s, "
               f"{rate / 1e6:.2f} M element-cycles/s; CCOR {r['ccor']:.4f}")  # fmt: skip
         name = "SGEMM" if precision == "single" else "DGEMM"
+        flops = hex8_flops(single=precision == "single")  # type 1: MAT_006, one Prony term
+        achieved = rate * flops / 1e9  # the solver's time: the hexes and everything else
         print(f"  yardstick: {name} {gemm:.1f} GFLOP/s on {threads} thread(s); "
-              f"{rate / gemm:.3g} element-cycles/s per GFLOP/s")  # fmt: skip
+              f"{rate / gemm:.3g} element-cycles/s per GFLOP/s; {flops} flops an element-cycle "
+              f"-> {achieved:.1f} GFLOP/s, {achieved / gemm:.1%} of {name}")  # fmt: skip
         print("  phases (s, last run):", {k: round(v, 2) for k, v in r["phases"].items()})
 
 if __name__ == "__main__":

@@ -53,18 +53,21 @@ from batball.solvers.ball_bat import (
 from batball.specs import BallSpec, BatSpec
 
 
+def coupled_controls(setup: BbsSetup) -> CoupledControls:
+    """The coupled solver's controls of a batted-ball-speed run with ``setup``."""
+    return CoupledControls(end_time=setup.end_time, time_step_scale=setup.time_step_scale,
+                           search_interval=setup.search_interval,
+                           separation_time=setup.separation_time, precision=setup.precision,
+                           shell_hourglass_ratio=setup.shell_hourglass_ratio,
+                           bat_damping=setup.bat_damping)  # fmt: skip
+
+
 def run_bbs_model(model: BbsModel, setup: BbsSetup, *, store: Path | None = None,
                   reuse: bool = True) -> CoupledResult:  # fmt: skip
     """Pre-stress the bat (when asked and it has an insert; from the fit stored under
     ``store``, :mod:`batball.lab.fit_store`, when it is there and ``reuse``), then run the
     impact to the end time or separation."""
-    controls = CoupledControls(end_time=setup.end_time, time_step_scale=setup.time_step_scale,
-                               search_interval=setup.search_interval,
-                               separation_time=setup.separation_time,
-                               precision=setup.precision,
-                               shell_hourglass_ratio=setup.shell_hourglass_ratio,
-                               bat_damping=setup.bat_damping)  # fmt: skip
-    solver = CoupledSolver(model.coupled, controls)
+    solver = CoupledSolver(model.coupled, coupled_controls(setup))
     inserts = model.coupled.contacts[model.coupled.ball_contacts :]
     ratio, pressure, reused = float("nan"), float("nan"), False
     if setup.prestress and inserts:
