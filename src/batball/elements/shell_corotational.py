@@ -75,6 +75,15 @@ def initial_rotations(n_points: int) -> CorotationalState:
     return CorotationalState(np.tile(np.eye(3), (n_points, 1, 1)))
 
 
+#: Below this squared angle [rad^2] the rotation's sin(p) / p and (1 - cos(p)) / p^2 are their
+#: series to p^6: the first term left out is below 3e-22 of the sum, far under double
+#: precision; the series is a few multiply-adds where sin and cos are calls (at the
+#: batted-ball-speed test's step, 0.2 us, the angle stays below 1e-4 rad up to 500 rad/s), and
+#: it avoids the cancellation of 1 - cos(p), which costs (1 - cos(p)) / p^2 about eps / p^2 of
+#: its relative accuracy (5e-9 at p = 1e-4).
+SERIES_ANGLE2 = 1e-4
+
+
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
 def advance_rotations(rotations: np.ndarray, velocity: np.ndarray, dt: float) -> None:
     """R_a <- exp(dt omega_a) R_a for every node (Rodrigues), omega the global rotation rates
@@ -84,8 +93,9 @@ def advance_rotations(rotations: np.ndarray, velocity: np.ndarray, dt: float) ->
         angle2 = p0 * p0 + p1 * p1 + p2 * p2
         if angle2 == 0.0:
             continue
-        if angle2 < 1e-12:
-            a, b = 1.0 - angle2 / 6.0, 0.5 - angle2 / 24.0
+        if angle2 < SERIES_ANGLE2:
+            a = 1.0 - angle2 * (1.0 / 6.0 - angle2 * (1.0 / 120.0 - angle2 * (1.0 / 5040.0)))
+            b = 0.5 - angle2 * (1.0 / 24.0 - angle2 * (1.0 / 720.0 - angle2 * (1.0 / 40320.0)))
         else:
             angle = np.sqrt(angle2)
             a, b = np.sin(angle) / angle, (1.0 - np.cos(angle)) / angle2
