@@ -249,10 +249,13 @@ def ball_internal_forces(
     take_slot_forces(state.nodal_forces, forces)
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
 def take_slot_forces(nodal_forces: np.ndarray, forces: np.ndarray) -> None:
-    """forces = the sum of the kernel's slots (n_slots, n_points, 3), which are cleared."""
-    for n in range(forces.shape[0]):
+    """forces = the sum of the kernel's slots (n_slots, n_points, 3), which are cleared; over
+    the threads (each node's sum in slot order, the same on any number of threads): half the
+    slots were written by the other threads, and reading them from one thread cost 0.39 ms a
+    cycle of the full-size BBS test on two threads, against 0.05 ms with the data in cache."""
+    for n in nb.prange(forces.shape[0]):
         for i in range(3):
             total = 0.0
             for slot in range(nodal_forces.shape[0]):
