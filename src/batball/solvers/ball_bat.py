@@ -292,7 +292,7 @@ class BallState:
                    np.zeros((n_foam, 4, 3)))  # fmt: skip
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
+@nb.njit(cache=True, fastmath=FASTMATH, parallel=True)
 def central_difference(
     forces: np.ndarray,
     mass: np.ndarray,
@@ -301,15 +301,19 @@ def central_difference(
     dt_new: float,
     points: np.ndarray,
     moving: np.ndarray,
+    factor: float,
 ) -> None:
     """v += h f / m on every dof, then x += dt v on the translations of ``moving`` nodes
-    (all but the pivot band, held by the relaxation); (n, 6) arrays."""
-    for n in range(forces.shape[0]):
+    (all but the pivot band, held by the relaxation), then v *= ``factor``; (n, 6) arrays, the
+    nodes over the threads."""
+    for n in nb.prange(forces.shape[0]):
         for k in range(forces.shape[1]):
             velocity[n, k] += half * forces[n, k] / mass[n, k]
         if moving[n]:
             for k in range(3):
                 points[n, k] += dt_new * velocity[n, k]
+        for k in range(forces.shape[1]):
+            velocity[n, k] *= factor
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, parallel=True)
@@ -577,8 +581,7 @@ def relax_fit(pairs: Sequence[SegmentContact | ColumnContact], *, interference: 
             pair.gap_offset[:] = overlap - (1.0 - share) * interference
             if step % search_interval == 0:
                 pair.search(points)
-        central_difference(forces(), mass, velocity, dt, dt, bat_points, moving)
-        velocity *= factor
+        central_difference(forces(), mass, velocity, dt, dt, bat_points, moving, factor)
         kinetic = 0.5 * float(np.sum(mass * velocity**2))
         if not np.isfinite(kinetic):
             raise SimulationError(
