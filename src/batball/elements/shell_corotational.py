@@ -194,10 +194,10 @@ SERIES_SINE2 = 1e-4
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def rotation_vectors(w: np.ndarray, n: int) -> None:
-    """The corners' rotation vectors (axis times angle, an exact logarithm) in the rotation rows
-    of ``d``, from the sine vectors s there and the cosines in ``w``: s times angle / |s|. The
-    series is taken over all CHUNK columns at once (the SIMD loop); the few corners with a
-    larger angle, among the first ``n`` columns, are then redone with atan2."""
+    """The corners' rotation vectors (axis times angle, an exact logarithm) in the work array's
+    rotation rows (W_D + 6a + 3..5), from the sine vectors s there and the cosines: s times
+    angle / |s|. The series is taken over all CHUNK columns at once (the SIMD loop); the few
+    corners with a larger angle, among the first ``n`` columns, are then redone with atan2."""
     for col in range(CHUNK):
         for a in range(4):
             s = load3(w, W_D + 6 * a + 3, col)
@@ -255,8 +255,8 @@ def local_product(stiffness: np.ndarray, w: np.ndarray) -> None:
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def balance_moment(w: np.ndarray, col: int) -> None:
-    """Remove from column ``col``'s local forces in ``f`` their moment about the current
-    centroid by the couple w x p_a, J w = -M, J = sum (|p|^2 I - p p^T), p_a = reference + d
+    """Remove from column ``col``'s local forces (rows W_F..) their moment M about the current
+    centroid by the forces c x p_a, J c = -M, J = sum (|p|^2 I - p p^T), p_a = reference + d
     the corners' current local positions (module docs)."""
     mx = my = mz = 0.0
     j00 = j11 = j22 = j01 = j02 = j12 = 0.0
