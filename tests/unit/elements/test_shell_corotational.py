@@ -14,6 +14,10 @@ with the statics' section. Expectations:
   same forces and moments turned by Q: to 1e-9 relative (round-off of the frames).
 * **Balance.** The forces sum to zero and their moment about any point vanishes, in a state with
   rotations of 0.2 rad between neighbouring nodes (the removed second-order moment, module docs).
+* **Assembly.** The nodes' forces are minus the NumPy scatter (``np.add.at``, cell by cell) of
+  the cells' corner forces as the kernel lays them out (chunks of cells of one kind, dof k of a
+  chunk's column col at k * CHUNK + col); this mesh has kinds split over two chunks, a kind of
+  exactly one chunk and kinds of a few cells.
 """
 
 from __future__ import annotations
@@ -23,9 +27,11 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from batball.elements.shell_corotational import (
+    CHUNK,
     CorotationalShellForces,
     critical_step,
     distinct_cells,
+    gather_negated,
 )
 from batball.elements.shell_stiffness import assemble_shell_stiffness, shell_section
 from batball.mesh.bat import make_bat_mesh
@@ -134,3 +140,22 @@ def test_the_critical_step_is_the_stiffest_element_mode() -> None:
     scale = 1.0 / np.sqrt(mass.ravel())
     largest = np.linalg.eigvalsh(scale[:, None] * stiffness * scale[None, :]).max()
     assert critical_step(shells, mass) == pytest.approx(2.0 / np.sqrt(largest), rel=1e-3)
+
+
+def test_the_nodes_forces_are_the_scatter_of_the_corner_forces(bat) -> None:  # noqa: ANN001
+    mesh, section = bat
+    shells = CorotationalShellForces(mesh.points, mesh.cells, section)
+    sizes = np.diff(shells.chunk_start)
+    assert sizes.max() == CHUNK and sizes.min() < CHUNK  # full and partial chunks
+    rng = np.random.default_rng(8)
+    chunked = rng.normal(size=shells.cell_forces.shape)
+    corner = np.zeros((mesh.n_cells, 4, 6))  # the same values, cell by cell
+    for t, (first, stop) in enumerate(zip(shells.chunk_start[:-1], shells.chunk_start[1:],
+                                          strict=True)):  # fmt: skip
+        block = chunked[t].reshape(24, CHUNK)[:, : stop - first]
+        corner[first:stop] = block.T.reshape(-1, 4, 6)
+    expected = np.zeros((mesh.n_points, 6))
+    np.add.at(expected, shells.cells.ravel(), -corner.reshape(-1, 6))
+    out = np.full((mesh.n_points, 6), np.nan)
+    gather_negated(shells.corner_start, shells.corner_slot, chunked, out)
+    np.testing.assert_allclose(out, expected, rtol=1e-14, atol=1e-14)

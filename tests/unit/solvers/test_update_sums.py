@@ -1,7 +1,9 @@
 """The coupled cycle's update (solvers/ball_bat.advance_ball, advance_bat), split over threads:
 the motion is the central-difference formula node by node, the same bits on any thread count,
 and the bookkeeping sums are the NumPy sums of the same terms (to round-off: the threads' parts
-are added in another order, 1e-12 relative allowed against about 1e-14 seen)."""
+are added in another order, 1e-12 relative allowed against about 1e-14 seen). Likewise the
+ball's slot sum (take_slot_forces: the NumPy sum exactly, slots cleared) and the insert fit's
+relaxation step (central_difference: the formula, then the velocities scaled)."""
 
 from __future__ import annotations
 
@@ -9,7 +11,7 @@ import numba
 import numpy as np
 import pytest
 
-from batball.solvers.ball_bat import advance_ball, advance_bat
+from batball.solvers.ball_bat import advance_ball, advance_bat, central_difference, take_slot_forces
 
 N = 5000
 H, DT_OLD, DT_NEW = 1.0e-7, 1.0e-7, 1.1e-7
@@ -76,3 +78,31 @@ def test_the_bat_update_moves_free_nodes_and_turns_the_band_on_any_thread_count(
         motions.append((velocity, points))
     for a, b in zip(motions[0], motions[-1], strict=True):
         np.testing.assert_array_equal(a, b)  # the motion does not depend on the threads
+
+
+def test_the_ball_slot_sum_is_the_numpy_sum_and_clears_the_slots(threads) -> None:  # noqa: ANN001
+    rng = np.random.default_rng(5)
+    slots = rng.normal(size=(2, N, 3))
+    expected = slots[0] + slots[1]  # two slots: one addition, exact in any order
+    for count in threads:
+        numba.set_num_threads(count)
+        work, forces = slots.copy(), np.zeros((N, 3))
+        take_slot_forces(work, forces)
+        np.testing.assert_array_equal(forces, expected)
+        assert not work.any()
+
+
+def test_the_relaxation_step_is_the_formula_on_any_thread_count(threads) -> None:  # noqa: ANN001
+    rng = np.random.default_rng(6)
+    f, m = rng.normal(size=(N, 6)), rng.uniform(1, 2, (N, 6))
+    v0, x0 = rng.normal(size=(N, 6)), rng.normal(size=(N, 3))
+    moving, factor = rng.uniform(size=N) > 0.05, 0.995
+    v = v0 + H * f / m
+    x = x0.copy()
+    x[moving] += DT_NEW * v[moving, :3]
+    for count in threads:
+        numba.set_num_threads(count)
+        velocity, points = v0.copy(), x0.copy()
+        central_difference(f, m, velocity, H, DT_NEW, points, moving, factor)
+        np.testing.assert_allclose(velocity, factor * v, rtol=1e-14, atol=0)
+        np.testing.assert_allclose(points, x, rtol=1e-14, atol=1e-300)
