@@ -124,8 +124,8 @@ CHUNK = 64
 # loops over the columns carry no dependence and vectorises them): the corners' reference
 # positions in the undeformed frame, the current frame E's rows, the corners' cosines, the 24
 # deformational dofs (corner a's displacements at rows 6a..6a+2, rotations at 6a+3..6a+5; later
-# the global forces), and the 24 local forces.
-W_REF, W_FRAME, W_COS, W_D, W_F, W_ROWS = 0, 12, 21, 25, 49, 73
+# the global forces), the 24 local forces, and the corners' squared sines.
+W_REF, W_FRAME, W_COS, W_D, W_F, W_SINE2, W_ROWS = 0, 12, 21, 25, 49, 73, 77
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -205,14 +205,15 @@ def rotation_vectors(w: np.ndarray, n: int) -> None:
             series = 1.0 + sine2 * (1.0 / 6.0 + sine2 * (3.0 / 40.0 + sine2 * (5.0 / 112.0)))
             small = sine2 < SERIES_SINE2 and w[(W_COS + a) * CHUNK + col] > 0.0
             factor = series if small else 1.0
+            w[(W_SINE2 + a) * CHUNK + col] = sine2  # the test below is this one's
             for k in range(3):
                 w[(W_D + 6 * a + 3 + k) * CHUNK + col] = factor * s[k]
     for col in range(n):
         for a in range(4):
-            s, cosine = load3(w, W_D + 6 * a + 3, col), w[(W_COS + a) * CHUNK + col]
-            sine2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2]
+            sine2, cosine = w[(W_SINE2 + a) * CHUNK + col], w[(W_COS + a) * CHUNK + col]
             if sine2 < SERIES_SINE2 and cosine > 0.0:
-                continue
+                continue  # scaled by the series above
+            s = load3(w, W_D + 6 * a + 3, col)  # not scaled (factor 1 above)
             sine = np.sqrt(sine2)
             factor = np.arctan2(sine, cosine) / sine
             for k in range(3):

@@ -14,6 +14,9 @@ with the statics' section. Expectations:
   same forces and moments turned by Q: to 1e-9 relative (round-off of the frames).
 * **Balance.** The forces sum to zero and their moment about any point vanishes, in a state with
   rotations of 0.2 rad between neighbouring nodes (the removed second-order moment, module docs).
+* **Rotation vectors at the series' edge.** A corner rotation whose squared sine lies just below
+  the series' threshold gets angle / sine once (the exact asin(s) / s to 1e-12), not again by
+  atan2 after the series has scaled it over the threshold.
 * **Assembly.** The nodes' forces are minus the NumPy scatter (``np.add.at``, cell by cell) of
   the cells' corner forces as the kernel lays them out (chunks of cells of one kind, dof k of a
   chunk's column col at k * CHUNK + col); this mesh has kinds split over two chunks, a kind of
@@ -28,10 +31,15 @@ from scipy.spatial.transform import Rotation
 
 from batball.elements.shell_corotational import (
     CHUNK,
+    SERIES_SINE2,
+    W_COS,
+    W_D,
+    W_ROWS,
     CorotationalShellForces,
     critical_step,
     distinct_cells,
     gather_negated,
+    rotation_vectors,
 )
 from batball.elements.shell_stiffness import assemble_shell_stiffness, shell_section
 from batball.mesh.bat import make_bat_mesh
@@ -159,3 +167,19 @@ def test_the_nodes_forces_are_the_scatter_of_the_corner_forces(bat) -> None:  # 
     out = np.full((mesh.n_points, 6), np.nan)
     gather_negated(shells.corner_start, shells.corner_slot, chunked, out)
     np.testing.assert_allclose(out, expected, rtol=1e-14, atol=1e-14)
+
+
+@pytest.mark.parametrize("below", [1e-3, 1e-6, 1e-9])
+def test_a_rotation_just_below_the_series_threshold_is_scaled_once(below: float) -> None:
+    sine2 = SERIES_SINE2 * (1.0 - below)
+    axis = np.array([2.0, -1.0, 2.0]) / 3.0
+    s = np.sqrt(sine2) * axis
+    w = np.zeros(W_ROWS * CHUNK)
+    for a in range(4):
+        for k in range(3):
+            w[(W_D + 6 * a + 3 + k) * CHUNK] = s[k]
+        w[(W_COS + a) * CHUNK] = np.sqrt(1.0 - sine2)
+    rotation_vectors(w, 1)
+    expected = np.arcsin(np.sqrt(sine2)) * axis
+    got = np.array([w[(W_D + 3 + k) * CHUNK] for k in range(3)])
+    np.testing.assert_allclose(got, expected, rtol=1e-12)
