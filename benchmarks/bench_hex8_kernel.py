@@ -4,7 +4,8 @@ Builds the type 1, 95 mph CCOR model, runs a few dozen explicit cycles so that t
 hourglass forces are non-trivial, then times ``compute_hex8_forces`` alone (after a warm-up call;
 the median and the best of several repeats) with 1 thread and with 2 (or every) threads. Usage:
 
-    python benchmarks/bench_hex8_kernel.py [--hourglass 1] [--cycles 50] [--calls 50] [--repeats 11]
+    python benchmarks/bench_hex8_kernel.py [--precision single] [--hourglass 1] [--cycles 50]
+        [--calls 50] [--repeats 11]
 """
 
 from __future__ import annotations
@@ -17,17 +18,20 @@ from collections.abc import Callable
 import numba
 
 from batball.elements.hex8 import compute_hex8_forces
-from batball.lab.impact import MPH
 from batball.models.impact import ImpactSetup, build_impact_model
 from batball.solvers.explicit import ExplicitControls, ExplicitSolver, HourglassControl
 from batball.specs import load_ball_spec
+from batball.units import MPH
 
 
-def loaded_solver(hourglass: int, cycles: int) -> ExplicitSolver:
-    """The 95 mph CCOR solver after ``cycles`` explicit cycles."""
+def loaded_solver(hourglass: int, cycles: int, precision: str = "single") -> ExplicitSolver:
+    """The 95 mph CCOR solver after ``cycles`` explicit cycles, its element arithmetic in
+    ``precision`` (single, as the CCOR test runs by default)."""
     setup = ImpactSetup(test="ccor", speed=95 * MPH, divisions=12)  # 12,096 hexes
     model = build_impact_model(load_ball_spec("type1"), setup)
-    controls = ExplicitControls(end_time=1e-3, hourglass=HourglassControl(type=hourglass))
+    controls = ExplicitControls(
+        end_time=1e-3, hourglass=HourglassControl(type=hourglass), precision=precision
+    )
     solver = ExplicitSolver(model, controls)
     for _ in range(cycles):
         solver.cycle()
@@ -66,16 +70,17 @@ def main() -> None:
     parser.add_argument("--cycles", type=int, default=50)
     parser.add_argument("--calls", type=int, default=50)
     parser.add_argument("--repeats", type=int, default=11)
+    parser.add_argument("--precision", choices=("single", "double"), default="single")
     args = parser.parse_args()
-    solver = loaded_solver(args.hourglass, args.cycles)
+    solver = loaded_solver(args.hourglass, args.cycles, args.precision)
     n_cells = solver.model.mesh.n_cells
     call = kernel_call(solver)
     for threads in sorted({1, min(2, numba.config.NUMBA_NUM_THREADS), numba.get_num_threads()}):
         numba.set_num_threads(threads)
         times = seconds_per_call(call, args.calls, args.repeats)
         median, best = statistics.median(times), min(times)
-        print(f"IHQ {args.hourglass}, threads {threads}: {n_cells} hexes, {median * 1e3:.3f} ms "
-              f"per call (median of {args.repeats} x {args.calls} calls): "
+        print(f"{args.precision}, IHQ {args.hourglass}, threads {threads}: {n_cells} hexes, "
+              f"{median * 1e3:.3f} ms per call (median of {args.repeats} x {args.calls} calls): "
               f"{n_cells / median / 1e6:.2f} M element-cycles/s "
               f"(best {n_cells / best / 1e6:.2f})")  # fmt: skip
 

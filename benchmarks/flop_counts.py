@@ -8,7 +8,7 @@ What: the arithmetic one element does in one explicit cycle in
   ``law = "mat006"``: constants K, G0, G_inf, beta, so n_terms = 1 Prony term), no hourglass card
   so the solver default IHQ 1 (viscous on Gamma, QH 0.1: not fb, not stiff), bulk viscosity on
   (Q1 1.5, Q2 0.06), precision "single" (the nodes are gathered in double and taken relative to
-  the first node, ``relative_nodes``). ``hex8_foam`` (MAT_057/083) is not on this path;
+  the first node, ``gather_nodes``). ``hex8_foam`` (MAT_057/083) is not on this path;
 * the layered Belytschko-Tsay shell of the bat (``batball.elements.shell_bt``, section data from
   ``shell_bt_section``) as ``benchmarks/bench_bbs_cycles.py --shell bt`` runs it on the default bat
   (``specs/data/default_bat.toml``, 48 x 0.1 in mesh): ``bt_nodal_force_kernel`` on one thread or
@@ -80,8 +80,8 @@ import math
 
 #: Flops per element-cycle by phase.
 HEX8: dict[str, int] = {
-    # hex8_block.gather_nodes, copy_history, gather_material: loads and stores only (0);
-    # hex8_block.relative_nodes: 48 subtractions (double), single precision only
+    # hex8_block.gather_nodes: 48 subtractions (double, the first node's values), single
+    # precision only; copy_history, gather_material: loads and stores only (0)
     "gather: relative nodes": 48,
     # hex8_block.load_modal_sums -> hex8_geometry.modal_sums: 23 adds per component, x and v
     "modal sums of x^n and v": 138,
@@ -162,7 +162,7 @@ CCOR_N_TERMS = 1
 
 def hex8_flops(n_terms: int = CCOR_N_TERMS, *, single: bool = True) -> int:
     """Flops per hex per cycle (IHQ 1) for a material of ``n_terms`` Prony terms (1..3);
-    ``single=False`` for the double-precision kernel (no relative_nodes)."""
+    ``single=False`` for the double-precision kernel (no relative nodes)."""
     if not 1 <= n_terms <= 3:
         raise ValueError(f"the kernel has 1..3 Prony terms, got {n_terms}")
     total = sum(HEX8.values()) + HEX8_PRONY_TERM * (n_terms - 1)

@@ -34,7 +34,6 @@ import numpy as np
 
 from batball.elements.hex8_block import (
     BLOCK,
-    N_NODE_ROWS,
     N_ROWS,
     constants_terms,
     copy_history,
@@ -52,7 +51,6 @@ from batball.elements.hex8_block import (
     history_rows,
     history_terms,
     material_factors,
-    relative_nodes,
     scatter_forces,
     scatter_outputs,
 )
@@ -100,22 +98,15 @@ def _advance_slot(element_block, stiff, slot, factors, mesh, material, history, 
     nodal_forces, cell_volume, cell_dt = outputs[0], outputs[1], outputs[2]
     first, end = slot_cells(slot, nodal_forces.shape[0], cells.shape[0])
     n_terms = constants_terms(material[1])
-    # the block scratch, in the precision of the history (a single-precision block gathers its
-    # nodes in double first, then takes them relative to the first node: relative_nodes)
+    # the block scratch, in the precision of the history
     w = np.zeros((N_ROWS + 8 * (n_terms - 1)) * BLOCK, dtype=history.dtype)
-    single = history.itemsize == 4
-    nodes = np.zeros(N_NODE_ROWS * BLOCK if single else 0)
     internal = 0.0
     hourglass = 0.0
     bulk = 0.0
     for start in range(first, end, BLOCK):
         n = min(BLOCK, end - start)
         block = history[start // BLOCK]
-        if single:
-            gather_nodes(nodes, start, n, points, velocities, cells)
-            relative_nodes(w, nodes)
-        else:
-            gather_nodes(w, start, n, points, velocities, cells)
+        gather_nodes(w, start, n, points, velocities, cells)
         copy_history(w, block, stiff, True)
         gather_material(w, start, n, material[0], factors)
         a, b, c = element_block(w, n, dt, q1, q2, hg_coefficient)

@@ -44,9 +44,6 @@ R_WORK = 82  # 3 work increments (internal, hourglass, bulk viscosity) [J], summ
 # element loop: without reassociation (numerics.FASTMATH) a sum carried through the loop
 # would keep LLVM from vectorising it (IHQ 4 ran at a third of its speed)
 N_ROWS = 85
-#: Rows R_X..R_V+23 (node coordinates and velocities): the double staging of a single-precision
-#: block's nodes (:func:`relative_nodes`).
-N_NODE_ROWS = R_V + 24
 # A material with N Prony terms (N > 1) adds rows after N_ROWS: 6 (N - 1) rows of the further
 # terms' h (term-major), then 2 (N - 1) rows of their (decay, scale) factors.
 
@@ -389,37 +386,54 @@ element_block_fb_viscous_3 = _make_element_block(True, False, 3)
 element_block_fb_stiffness_3 = _make_element_block(True, True, 3)
 
 
-@nb.njit
+@nb.njit(inline="always")
+def _unsigned_at(row: int, slot: np.uint64) -> np.uint64:
+    """:func:`at` as an unsigned index (``slot`` unsigned): Numba wraps a signed index that may be
+    negative, which costs the gather and scatter loops a third of their instructions."""
+    return np.uint64(row * BLOCK) + slot
+
+
+@nb.njit(inline="always")
+def _node_offset(cells: np.ndarray, cell: np.uint64, a: int) -> np.uint64:
+    """Unsigned offset of node ``a`` of ``cell`` in a flat (n_points * 3) view of a nodal array."""
+    return np.uint64(3) * np.uint64(cells[cell, a])
+
+
+@nb.njit(fastmath=FASTMATH)
 def gather_nodes(
     w: np.ndarray, start: int, n: int, points: np.ndarray, velocities: np.ndarray,
     cells: np.ndarray,
 ) -> None:
-    """Rows R_X and R_V of cells start..start+n-1: their nodes' coordinates x^n [m] and
-    velocities v^(n-1/2) [m/s]."""
-    cells = cells[start : start + n]
-    for e in range(n):
-        for a in range(8):
-            node = cells[e, a]
-            for i in range(3):
-                w[at(R_X + 3 * a + i, e)] = points[node, i]
-                w[at(R_V + 3 * a + i, e)] = velocities[node, i]
-
-
-@nb.njit(fastmath=FASTMATH)
-def relative_nodes(w: np.ndarray, nodes: np.ndarray) -> None:
-    """Rows R_X..R_V+23 of ``w`` from those of ``nodes`` (double, filled by
-    :func:`gather_nodes`) less the first node's, subtracted in double and rounded to the
-    precision of ``w``: how the single-precision kernel receives its nodes.
+    """Rows R_X..R_V+23 of cells start..start+n-1: their nodes' coordinates x^n [m] and
+    velocities v^(n-1/2) [m/s], rounded to the precision of ``w``; in single precision less
+    the first node's, subtracted in double before the rounding.
 
     The kernel uses only the modal sums of modes 1..7, which do not see a common translation or
     velocity; relative values keep the digits of the element's own shape and deformation rate
     (a ball at 0.05 m flying at 42 m/s would lose them to its position and speed in float32).
-    The loops run over whole rows of three components so that they vectorise."""
-    for base in (R_X * BLOCK, R_V * BLOCK):
+    Double precision takes the values as they are (less zero: the same bits)."""
+    relative = w.itemsize == 4
+    # flat views and unsigned indices: no negative-index wraparound, no row strides
+    xs, vs = points.reshape(-1), velocities.reshape(-1)
+    for e in range(n):
+        cell = np.uint64(start + e)
+        slot = np.uint64(e)
+        first = _node_offset(cells, cell, 0)
+        origin = first if relative else np.uint64(0)
+        ox, oy, oz = xs[origin], xs[origin + np.uint64(1)], xs[origin + np.uint64(2)]
+        ou, ov, ow = vs[origin], vs[origin + np.uint64(1)], vs[origin + np.uint64(2)]
+        ox, oy, oz = (ox, oy, oz) if relative else (0.0, 0.0, 0.0)
+        ou, ov, ow = (ou, ov, ow) if relative else (0.0, 0.0, 0.0)
         for a in range(8):
-            row = base + 3 * BLOCK * a
-            for j in range(3 * BLOCK):
-                w[row + j] = nodes[row + j] - nodes[base + j]
+            node = _node_offset(cells, cell, a)
+            x0, x1, x2 = xs[node], xs[node + np.uint64(1)], xs[node + np.uint64(2)]
+            v0, v1, v2 = vs[node], vs[node + np.uint64(1)], vs[node + np.uint64(2)]
+            w[_unsigned_at(R_X + 3 * a, slot)] = x0 - ox
+            w[_unsigned_at(R_X + 3 * a + 1, slot)] = x1 - oy
+            w[_unsigned_at(R_X + 3 * a + 2, slot)] = x2 - oz
+            w[_unsigned_at(R_V + 3 * a, slot)] = v0 - ou
+            w[_unsigned_at(R_V + 3 * a + 1, slot)] = v1 - ov
+            w[_unsigned_at(R_V + 3 * a + 2, slot)] = v2 - ow
 
 
 @nb.njit
@@ -434,30 +448,25 @@ def copy_history(w: np.ndarray, block: np.ndarray, stiff: bool, load: bool) -> N
                 (core + hourglass, N_ROWS * BLOCK, extra))  # fmt: skip
     for first, row, size in segments:
         if load:
-            w[row : row + size] = block[first : first + size]
+            for j in range(size):
+                w[row + j] = block[first + j]
         else:
-            block[first : first + size] = w[row : row + size]
+            for j in range(size):
+                block[first + j] = w[row + j]
 
 
 @nb.njit
 def gather_material(
     w: np.ndarray, start: int, n: int, cell_material: np.ndarray, factors: np.ndarray
 ) -> None:
-    """The material factors of cells start..start+n-1 (one broadcast if they share one)."""
-    materials = cell_material[start : start + n]
-    shared = True
-    for e in range(1, n):
-        shared = shared and materials[e] == materials[0]
+    """The material factors of cells start..start+n-1."""
     n_extra = (factors.shape[1] - N_FACTORS) // 2
     for k in range(factors.shape[1]):
         # the further terms' factors sit after their 6 (N - 1) rows of h
         row = R_MAT + k if k < N_FACTORS else N_ROWS + 6 * n_extra + k - N_FACTORS
-        if shared:
-            for e in range(n):
-                w[at(row, e)] = factors[materials[0], k]
-        else:
-            for e in range(n):
-                w[at(row, e)] = factors[materials[e], k]
+        for e in range(n):
+            material = np.uint64(cell_material[np.uint64(start + e)])
+            w[_unsigned_at(row, np.uint64(e))] = factors[material, k]
 
 
 @nb.njit
@@ -479,9 +488,12 @@ def scatter_forces(
     ``forces`` belongs to one slot of the parallel loop, so no other thread writes it; the nodes
     of consecutive cells are neighbours, so the writes stay in cache.
     """
-    cells = cells[start : start + n]
+    flat = forces.reshape(-1)
     for e in range(n):
+        cell = np.uint64(start + e)
+        slot = np.uint64(e)
         for a in range(8):
-            node = cells[e, a]
-            for i in range(3):
-                forces[node, i] += w[at(R_X + 3 * a + i, e)]
+            node = _node_offset(cells, cell, a)
+            flat[node] += w[_unsigned_at(R_X + 3 * a, slot)]
+            flat[node + np.uint64(1)] += w[_unsigned_at(R_X + 3 * a + 1, slot)]
+            flat[node + np.uint64(2)] += w[_unsigned_at(R_X + 3 * a + 2, slot)]
