@@ -459,14 +459,23 @@ def copy_history(w: np.ndarray, block: np.ndarray, stiff: bool, load: bool) -> N
 def gather_material(
     w: np.ndarray, start: int, n: int, cell_material: np.ndarray, factors: np.ndarray
 ) -> None:
-    """The material factors of cells start..start+n-1."""
+    """The material factors of cells start..start+n-1 (a broadcast where they share one)."""
     n_extra = (factors.shape[1] - N_FACTORS) // 2
+    first = cell_material[np.uint64(start)]
+    shared = True
+    for e in range(n):
+        shared &= cell_material[np.uint64(start + e)] == first
     for k in range(factors.shape[1]):
         # the further terms' factors sit after their 6 (N - 1) rows of h
         row = R_MAT + k if k < N_FACTORS else N_ROWS + 6 * n_extra + k - N_FACTORS
-        for e in range(n):
-            material = np.uint64(cell_material[np.uint64(start + e)])
-            w[_unsigned_at(row, np.uint64(e))] = factors[material, k]
+        if shared:
+            value = factors[np.uint64(first), k]
+            for e in range(n):
+                w[_unsigned_at(row, np.uint64(e))] = value
+        else:
+            for e in range(n):
+                material = np.uint64(cell_material[np.uint64(start + e)])
+                w[_unsigned_at(row, np.uint64(e))] = factors[material, k]
 
 
 @nb.njit
