@@ -52,26 +52,6 @@ def slot_node_ranges(cells: np.ndarray, n_slots: int) -> np.ndarray:
     return ranges
 
 
-@nb.njit(fastmath=FASTMATH)
-def take_nodal_force(
-    nodal_forces: np.ndarray, slot_nodes: np.ndarray, n: int
-) -> tuple[float, float, float]:
-    """Node n's total force [N], the sum of the slots holding it, which are cleared for the next
-    cycle."""
-    f0 = 0.0
-    f1 = 0.0
-    f2 = 0.0
-    for slot in range(nodal_forces.shape[0]):
-        if slot_nodes[slot, 0] <= n < slot_nodes[slot, 1]:
-            f0 += nodal_forces[slot, n, 0]
-            f1 += nodal_forces[slot, n, 1]
-            f2 += nodal_forces[slot, n, 2]
-            nodal_forces[slot, n, 0] = 0.0
-            nodal_forces[slot, n, 1] = 0.0
-            nodal_forces[slot, n, 2] = 0.0
-    return f0, f1, f2
-
-
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def assemble_and_update(
     nodal_forces: np.ndarray,
@@ -83,6 +63,7 @@ def assemble_and_update(
     points: np.ndarray,
     velocities: np.ndarray,
     sums: np.ndarray,
+    node_sums: np.ndarray,
 ) -> None:
     """Sum the slots of nodal forces (element and contact forces; cleared for the next cycle) and
     take one central-difference step, in place:
@@ -96,17 +77,29 @@ def assemble_and_update(
         points, velocities: (n_points, 3) x^n and v^(n-1/2), advanced in place [m, m/s].
         sums: (6,) out: kinetic energy at n+1/2 [J], (slot 1 is left to the caller: the contact
             work), energy dissipated by the damping [J], and the total momentum [kg m/s].
+        node_sums: (5, n_points) scratch: each node's terms of those sums. The step runs over
+            the threads with no sum carried through it, so that it vectorises (a sum carried
+            through a loop keeps LLVM from vectorising it without reassociation); the sums then
+            run in node order, so they do not depend on the number of threads.
     """
+    # the slots' forces summed into slot 0, in slot order, each slot over its own node range (a
+    # slot's forces are zero outside it) and cleared; one slot's nodes are distinct, so each
+    # slot's pass runs over the threads
+    for slot in range(1, nodal_forces.shape[0]):
+        for n in nb.prange(slot_nodes[slot, 0], slot_nodes[slot, 1]):
+            for i in range(3):
+                nodal_forces[0, n, i] += nodal_forces[slot, n, i]
+                nodal_forces[slot, n, i] = 0.0
     half = 0.5 * (dt_old + dt_new)
     keep = 1.0 - 0.5 * damping * half
     scale = 1.0 / (1.0 + 0.5 * damping * half)
-    kinetic = 0.0
-    damping_work = 0.0
-    p0 = 0.0
-    p1 = 0.0
-    p2 = 0.0
     for n in nb.prange(points.shape[0]):
-        f0, f1, f2 = take_nodal_force(nodal_forces, slot_nodes, n)
+        f0 = nodal_forces[0, n, 0]
+        f1 = nodal_forces[0, n, 1]
+        f2 = nodal_forces[0, n, 2]
+        nodal_forces[0, n, 0] = 0.0
+        nodal_forces[0, n, 1] = 0.0
+        nodal_forces[0, n, 2] = 0.0
         m = mass[n]
         h_m = half / m
         v0 = velocities[n, 0]
@@ -124,11 +117,22 @@ def assemble_and_update(
         a0 = 0.5 * (v0 + w0)
         a1 = 0.5 * (v1 + w1)
         a2 = 0.5 * (v2 + w2)
-        damping_work += damping * m * half * (a0 * a0 + a1 * a1 + a2 * a2)
-        kinetic += 0.5 * m * (w0 * w0 + w1 * w1 + w2 * w2)
-        p0 += m * w0
-        p1 += m * w1
-        p2 += m * w2
+        node_sums[0, n] = 0.5 * m * (w0 * w0 + w1 * w1 + w2 * w2)
+        node_sums[1, n] = damping * m * half * (a0 * a0 + a1 * a1 + a2 * a2)
+        node_sums[2, n] = m * w0
+        node_sums[3, n] = m * w1
+        node_sums[4, n] = m * w2
+    kinetic = 0.0
+    damping_work = 0.0
+    p0 = 0.0
+    p1 = 0.0
+    p2 = 0.0
+    for n in range(points.shape[0]):
+        kinetic += node_sums[0, n]
+        damping_work += node_sums[1, n]
+        p0 += node_sums[2, n]
+        p1 += node_sums[3, n]
+        p2 += node_sums[4, n]
     sums[0] = kinetic
     sums[2] = damping_work
     sums[3] = p0
@@ -267,9 +271,9 @@ def finish_cycle(
     Args:
         energy_increments: (n_slots, 3) the element kernel's internal, hourglass, bulk work [J].
         cell_dt: (n_cells,) element stable steps [s]; nodal_forces: (n_slots, n_points, 3) [N].
-        nodes: (slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots): as in
-            :func:`assemble_and_update`, the (n_points, 3) contact forces (only the contact
-            nodes' rows are used) and :func:`contact_node_slots`.
+        nodes: (slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots,
+            node_sums): as in :func:`assemble_and_update`, the (n_points, 3) contact forces
+            (only the contact nodes' rows are used) and :func:`contact_node_slots`.
         contacts: (node_ids, stiffness, offsets, kinds, params, reaction, penetration) of
             ``add_rigid_contact_forces``.
         points, velocities: x^n and v^(n-1/2), advanced in place.
@@ -282,7 +286,7 @@ def finish_cycle(
         CYCLE_OK, CYCLE_SEPARATED or a FAIL_* code (the step is then not taken, or for
         FAIL_NON_FINITE / FAIL_ENERGY taken and recorded; ``counters[ELEMENT]`` names the element).
     """
-    slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots = nodes
+    slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots, node_sums = nodes
     reaction, penetration = contacts[5], contacts[6]
     for c in range(3):
         energies[c] += energy_increments[:, c].sum()
@@ -296,7 +300,7 @@ def finish_cycle(
     move_contact_forces(contact_nodes, contact_slots, contact_forces, nodal_forces)
     assemble_and_update(
         nodal_forces, slot_nodes, mass, limits[DAMPING], clock[DT], dt_new, points, velocities,
-        sums,
+        sums, node_sums,
     )
     sums[1] = work + 0.5 * dt_new * contact_power(contact_nodes, contact_forces, velocities)
     energies[CONTACT_ENERGY] -= sums[1]

@@ -3,7 +3,8 @@ the motion is the central-difference formula node by node, the same bits on any 
 and the bookkeeping sums are the NumPy sums of the same terms (to round-off: the threads' parts
 are added in another order, 1e-12 relative allowed against about 1e-14 seen). Likewise the
 ball's slot sum (take_slot_forces: the NumPy sum exactly, slots cleared) and the insert fit's
-relaxation step (central_difference: the formula, then the velocities scaled)."""
+relaxation step (central_difference: the formula, then the velocities scaled), and the impact
+solver's update (explicit_kernels.assemble_and_update)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import numpy as np
 import pytest
 
 from batball.solvers.ball_bat import advance_ball, advance_bat, central_difference, take_slot_forces
+from batball.solvers.explicit_kernels import assemble_and_update
 
 N = 5000
 H, DT_OLD, DT_NEW = 1.0e-7, 1.0e-7, 1.1e-7
@@ -106,3 +108,42 @@ def test_the_relaxation_step_is_the_formula_on_any_thread_count(threads) -> None
         central_difference(f, m, velocity, H, DT_NEW, points, moving, factor)
         np.testing.assert_allclose(velocity, factor * v, rtol=1e-14, atol=0)
         np.testing.assert_allclose(points, x, rtol=1e-14, atol=1e-300)
+
+
+def test_the_impact_update_sums_the_slots_in_their_ranges_and_steps_by_the_formula(threads) -> None:  # noqa: ANN001
+    """solvers/explicit_kernels.assemble_and_update: three slots with overlapping node ranges (a
+    slot's forces are zero outside its range, as the element kernel leaves them); the step is the
+    damped central-difference formula on the slots' sum taken in slot order (to 1e-14: the
+    kernel contracts multiply-adds), the same bits on any thread count; the slots are cleared;
+    the sums are NumPy's to round-off (1e-12)."""
+    rng = np.random.default_rng(7)
+    ranges = np.array([[0, 2000], [1500, 3600], [3000, N]])
+    slots = np.zeros((3, N, 3))
+    for slot, (lo, hi) in enumerate(ranges):
+        slots[slot, lo:hi] = rng.normal(size=(hi - lo, 3))
+    mass = 1.0 + rng.random(N)
+    x0, v0 = rng.normal(size=(N, 3)), rng.normal(size=(N, 3))
+    damping = 2.0e4
+    half = 0.5 * (DT_OLD + DT_NEW)
+    force = (slots[0] + slots[1]) + slots[2]
+    keep, scale = 1.0 - 0.5 * damping * half, 1.0 / (1.0 + 0.5 * damping * half)
+    v = (keep * v0 + force * (half / mass)[:, None]) * scale
+    x = x0 + DT_NEW * v
+    mean = 0.5 * (v0 + v)
+    kinetic = 0.5 * (mass * (v * v).sum(1)).sum()
+    dissipated = (damping * mass * half * (mean * mean).sum(1)).sum()
+    expected_sums = [kinetic, 0.0, dissipated, *(mass[:, None] * v).sum(0)]
+    results = []
+    for count in threads:
+        numba.set_num_threads(count)
+        work, points, velocities = slots.copy(), x0.copy(), v0.copy()
+        sums, node_sums = np.zeros(6), np.zeros((5, N))
+        assemble_and_update(work, ranges, mass, damping, DT_OLD, DT_NEW, points, velocities,
+                            sums, node_sums)  # fmt: skip
+        assert not work.any()
+        np.testing.assert_allclose(velocities, v, rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(points, x, rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(sums, expected_sums, rtol=1e-12)
+        results.append((points, velocities, sums))
+    for a, b in zip(results[0], results[-1], strict=True):
+        np.testing.assert_array_equal(a, b)  # not even the sums depend on the threads
