@@ -100,19 +100,21 @@ def _advance_slot(element_block, stiff, slot, factors, mesh, material, history, 
     n_terms = constants_terms(material[1])
     # the block scratch, in the precision of the history
     w = np.zeros((N_ROWS + 8 * (n_terms - 1)) * BLOCK, dtype=history.dtype)
+    # flat views of the nodal arrays for the gather and the scatter
+    xs, vs, slot_forces = points.reshape(-1), velocities.reshape(-1), nodal_forces[slot].reshape(-1)
     internal = 0.0
     hourglass = 0.0
     bulk = 0.0
     for start in range(first, end, BLOCK):
         n = min(BLOCK, end - start)
         block = history[start // BLOCK]
-        gather_nodes(w, start, n, points, velocities, cells)
+        gather_nodes(w, start, n, xs, vs, cells)
         copy_history(w, block, stiff, True)
         gather_material(w, start, n, material[0], factors)
         a, b, c = element_block(w, n, dt, q1, q2, hg_coefficient)
         copy_history(w, block, stiff, False)
         scatter_outputs(w, start, n, cell_volume, cell_dt)
-        scatter_forces(w, start, n, cells, nodal_forces[slot])
+        scatter_forces(w, start, n, cells, slot_forces)
         internal += a
         hourglass += b
         bulk += c

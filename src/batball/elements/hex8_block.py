@@ -401,20 +401,19 @@ def _node_offset(cells: np.ndarray, cell: np.uint64, a: int) -> np.uint64:
 
 @nb.njit(fastmath=FASTMATH)
 def gather_nodes(
-    w: np.ndarray, start: int, n: int, points: np.ndarray, velocities: np.ndarray,
-    cells: np.ndarray,
+    w: np.ndarray, start: int, n: int, xs: np.ndarray, vs: np.ndarray, cells: np.ndarray
 ) -> None:
     """Rows R_X..R_V+23 of cells start..start+n-1: their nodes' coordinates x^n [m] and
-    velocities v^(n-1/2) [m/s], rounded to the precision of ``w``; in single precision less
-    the first node's, subtracted in double before the rounding.
+    velocities v^(n-1/2) [m/s] (``xs``, ``vs``: flat (n_points * 3) views), rounded to the
+    precision of ``w``; in single precision less the first node's, subtracted in double before
+    the rounding.
 
     The kernel uses only the modal sums of modes 1..7, which do not see a common translation or
     velocity; relative values keep the digits of the element's own shape and deformation rate
     (a ball at 0.05 m flying at 42 m/s would lose them to its position and speed in float32).
     Double precision takes the values as they are (less zero: the same bits)."""
     relative = w.itemsize == 4
-    # flat views and unsigned indices: no negative-index wraparound, no row strides
-    xs, vs = points.reshape(-1), velocities.reshape(-1)
+    # unsigned indices into flat views: no negative-index wraparound, no row strides
     for e in range(n):
         cell = np.uint64(start + e)
         slot = np.uint64(e)
@@ -492,17 +491,17 @@ def scatter_outputs(
 def scatter_forces(
     w: np.ndarray, start: int, n: int, cells: np.ndarray, forces: np.ndarray
 ) -> None:
-    """Add the nodal forces of cells start..start+n-1 into ``forces`` (n_points, 3) [N].
+    """Add the nodal forces of cells start..start+n-1 into ``forces`` (a flat n_points * 3
+    view) [N].
 
     ``forces`` belongs to one slot of the parallel loop, so no other thread writes it; the nodes
     of consecutive cells are neighbours, so the writes stay in cache.
     """
-    flat = forces.reshape(-1)
     for e in range(n):
         cell = np.uint64(start + e)
         slot = np.uint64(e)
         for a in range(8):
             node = _node_offset(cells, cell, a)
-            flat[node] += w[_unsigned_at(R_X + 3 * a, slot)]
-            flat[node + np.uint64(1)] += w[_unsigned_at(R_X + 3 * a + 1, slot)]
-            flat[node + np.uint64(2)] += w[_unsigned_at(R_X + 3 * a + 2, slot)]
+            forces[node] += w[_unsigned_at(R_X + 3 * a, slot)]
+            forces[node + np.uint64(1)] += w[_unsigned_at(R_X + 3 * a + 1, slot)]
+            forces[node + np.uint64(2)] += w[_unsigned_at(R_X + 3 * a + 2, slot)]
