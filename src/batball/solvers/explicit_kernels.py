@@ -77,10 +77,10 @@ def assemble_and_update(
         points, velocities: (n_points, 3) x^n and v^(n-1/2), advanced in place [m, m/s].
         sums: (6,) out: kinetic energy at n+1/2 [J], (slot 1 is left to the caller: the contact
             work), energy dissipated by the damping [J], and the total momentum [kg m/s].
-        node_sums: (5, n_points) scratch: each node's terms of those sums. The step runs over
-            the threads with no sum carried through it, so that it vectorises (a sum carried
-            through a loop keeps LLVM from vectorising it without reassociation); the sums then
-            run in node order, so they do not depend on the number of threads.
+        node_sums: (n_points,) scratch: each node's damping dissipation. The step runs over the
+            threads with no sum carried through it, so that it vectorises (a sum carried through
+            a loop keeps LLVM from vectorising it without reassociation); the sums then run in
+            node order over the new velocities, so they do not depend on the number of threads.
     """
     # the slots' forces summed into slot 0, in slot order, each slot over its own node range (a
     # slot's forces are zero outside it) and cleared; one slot's nodes are distinct, so each
@@ -93,6 +93,7 @@ def assemble_and_update(
     half = 0.5 * (dt_old + dt_new)
     keep = 1.0 - 0.5 * damping * half
     scale = 1.0 / (1.0 + 0.5 * damping * half)
+    damped = damping != 0.0
     for n in nb.prange(points.shape[0]):
         f0 = nodal_forces[0, n, 0]
         f1 = nodal_forces[0, n, 1]
@@ -114,25 +115,28 @@ def assemble_and_update(
         points[n, 0] += dt_new * w0
         points[n, 1] += dt_new * w1
         points[n, 2] += dt_new * w2
-        a0 = 0.5 * (v0 + w0)
-        a1 = 0.5 * (v1 + w1)
-        a2 = 0.5 * (v2 + w2)
-        node_sums[0, n] = 0.5 * m * (w0 * w0 + w1 * w1 + w2 * w2)
-        node_sums[1, n] = damping * m * half * (a0 * a0 + a1 * a1 + a2 * a2)
-        node_sums[2, n] = m * w0
-        node_sums[3, n] = m * w1
-        node_sums[4, n] = m * w2
+        if damped:
+            a0 = 0.5 * (v0 + w0)
+            a1 = 0.5 * (v1 + w1)
+            a2 = 0.5 * (v2 + w2)
+            node_sums[n] = damping * m * half * (a0 * a0 + a1 * a1 + a2 * a2)
     kinetic = 0.0
     damping_work = 0.0
     p0 = 0.0
     p1 = 0.0
     p2 = 0.0
     for n in range(points.shape[0]):
-        kinetic += node_sums[0, n]
-        damping_work += node_sums[1, n]
-        p0 += node_sums[2, n]
-        p1 += node_sums[3, n]
-        p2 += node_sums[4, n]
+        m = mass[n]
+        w0 = velocities[n, 0]
+        w1 = velocities[n, 1]
+        w2 = velocities[n, 2]
+        kinetic += 0.5 * m * (w0 * w0 + w1 * w1 + w2 * w2)
+        p0 += m * w0
+        p1 += m * w1
+        p2 += m * w2
+    if damped:
+        for n in range(points.shape[0]):
+            damping_work += node_sums[n]
     sums[0] = kinetic
     sums[2] = damping_work
     sums[3] = p0

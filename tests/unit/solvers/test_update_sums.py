@@ -110,12 +110,13 @@ def test_the_relaxation_step_is_the_formula_on_any_thread_count(threads) -> None
         np.testing.assert_allclose(points, x, rtol=1e-14, atol=1e-300)
 
 
-def test_the_impact_update_sums_the_slots_in_their_ranges_and_steps_by_the_formula(threads) -> None:  # noqa: ANN001
-    """solvers/explicit_kernels.assemble_and_update: three slots with overlapping node ranges (a
-    slot's forces are zero outside its range, as the element kernel leaves them); the step is the
-    damped central-difference formula on the slots' sum taken in slot order (to 1e-14: the
-    kernel contracts multiply-adds), the same bits on any thread count; the slots are cleared;
-    the sums are NumPy's to round-off (1e-12)."""
+@pytest.mark.parametrize("damping", [0.0, 2.0e4])
+def test_the_impact_update_sums_the_slots_and_steps_by_the_formula(threads, damping) -> None:  # noqa: ANN001
+    """solvers/explicit_kernels.assemble_and_update, undamped and damped: three slots with
+    overlapping node ranges (a slot's forces are zero outside its range, as the element kernel
+    leaves them); the step is the damped central-difference formula on the slots' sum taken in
+    slot order (to 1e-14: the kernel contracts multiply-adds), the same bits on any thread
+    count; the slots are cleared; the sums are NumPy's to round-off (1e-12)."""
     rng = np.random.default_rng(7)
     ranges = np.array([[0, 2000], [1500, 3600], [3000, N]])
     slots = np.zeros((3, N, 3))
@@ -123,7 +124,6 @@ def test_the_impact_update_sums_the_slots_in_their_ranges_and_steps_by_the_formu
         slots[slot, lo:hi] = rng.normal(size=(hi - lo, 3))
     mass = 1.0 + rng.random(N)
     x0, v0 = rng.normal(size=(N, 3)), rng.normal(size=(N, 3))
-    damping = 2.0e4
     half = 0.5 * (DT_OLD + DT_NEW)
     force = (slots[0] + slots[1]) + slots[2]
     keep, scale = 1.0 - 0.5 * damping * half, 1.0 / (1.0 + 0.5 * damping * half)
@@ -137,7 +137,7 @@ def test_the_impact_update_sums_the_slots_in_their_ranges_and_steps_by_the_formu
     for count in threads:
         numba.set_num_threads(count)
         work, points, velocities = slots.copy(), x0.copy(), v0.copy()
-        sums, node_sums = np.zeros(6), np.zeros((5, N))
+        sums, node_sums = np.zeros(6), np.zeros(N)
         assemble_and_update(work, ranges, mass, damping, DT_OLD, DT_NEW, points, velocities,
                             sums, node_sums)  # fmt: skip
         assert not work.any()
