@@ -124,7 +124,7 @@ def _store6(row: np.ndarray, first: int, s: tuple) -> None:
         row[first + k] = s[k]
 
 
-@nb.njit
+@nb.njit(inline="always")
 def foam_element(e, mesh, material, state, outputs, controls, scratch, saved):
     """Stress update, nodal forces and stable step of cell ``e``; returns its work [J] as
     (internal, hourglass, bulk viscosity). Arguments as in :func:`compute_foam_forces`;
@@ -196,6 +196,25 @@ def foam_element(e, mesh, material, state, outputs, controls, scratch, saved):
     return work
 
 
+@nb.njit
+def _foam_cells(first, end, mesh, material, state, outputs, controls):
+    """Cells first..end-1 of one slot (``outputs``' nodal array is the slot's); their (internal,
+    hourglass, bulk viscosity) work [J]. A plain loop with the element inlined: called per cell
+    from the parallel loop, the element's arguments (some twenty arrays) were copied at every
+    call."""
+    scratch = np.empty((6, 3, 3))
+    saved = np.empty(N_HISTORY)
+    internal = 0.0
+    hourglass = 0.0
+    bulk = 0.0
+    for e in range(first, end):
+        work = foam_element(e, mesh, material, state, outputs, controls, scratch, saved)
+        internal += work[0]
+        hourglass += work[1]
+        bulk += work[2]
+    return internal, hourglass, bulk
+
+
 @nb.njit(parallel=True, cache=True)
 def _foam_forces(mesh, material, state, outputs, energy_increments, controls):
     """All cells in the slots of ``nodal_forces`` (rows of ``energy_increments``), in parallel, as
@@ -210,21 +229,11 @@ def _foam_forces(mesh, material, state, outputs, energy_increments, controls):
     n_chunks = energy_increments.shape[0]
     for chunk in nb.prange(n_chunks):
         first, end = slot_cells(chunk, n_chunks, n_cells)
-        scratch = np.empty((6, 3, 3))
-        saved = np.empty(N_HISTORY)
-        internal = 0.0
-        hourglass = 0.0
-        bulk = 0.0
-        for e in range(first, end):
-            work = foam_element(
-                e, (points, velocities, cells, reference),
-                (rho0, volume0, (params, rates, strains, stresses, counts, energies)),
-                (history, hg_state), (nodal_forces[chunk], cell_volume, cell_dt), controls, scratch,
-                saved,
-            )  # fmt: skip
-            internal += work[0]
-            hourglass += work[1]
-            bulk += work[2]
+        internal, hourglass, bulk = _foam_cells(
+            first, end, (points, velocities, cells, reference),
+            (rho0, volume0, (params, rates, strains, stresses, counts, energies)),
+            (history, hg_state), (nodal_forces[chunk], cell_volume, cell_dt), controls,
+        )  # fmt: skip
         energy_increments[chunk, ENERGY_INTERNAL] = internal
         energy_increments[chunk, ENERGY_HOURGLASS] = hourglass
         energy_increments[chunk, ENERGY_BULK_VISCOSITY] = bulk
