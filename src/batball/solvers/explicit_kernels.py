@@ -121,12 +121,21 @@ def assemble_and_update(
             a1 = 0.5 * (v1 + w1)
             a2 = 0.5 * (v2 + w2)
             node_sums[n] = damping * m * half * (a0 * a0 + a1 * a1 + a2 * a2)
+    motion_sums(mass, velocities, node_sums if damped else node_sums[:0], sums)
+
+
+@nb.njit(fastmath=FASTMATH)
+def motion_sums(
+    mass: np.ndarray, velocities: np.ndarray, dissipation: np.ndarray, sums: np.ndarray
+) -> None:
+    """The kinetic energy [J], the sum of ``dissipation`` [J] and the momentum [kg m/s] of nodes
+    of ``mass`` moving at ``velocities``, into sums[0], sums[2] and sums[3:6], each summed in
+    node order."""
     kinetic = 0.0
-    damping_work = 0.0
     p0 = 0.0
     p1 = 0.0
     p2 = 0.0
-    for n in range(points.shape[0]):
+    for n in range(velocities.shape[0]):
         m = mass[n]
         w0 = velocities[n, 0]
         w1 = velocities[n, 1]
@@ -135,11 +144,11 @@ def assemble_and_update(
         p0 += m * w0
         p1 += m * w1
         p2 += m * w2
-    if damped:
-        for n in range(points.shape[0]):
-            damping_work += node_sums[n]
+    dissipated = 0.0
+    for n in range(dissipation.shape[0]):
+        dissipated += dissipation[n]
     sums[0] = kinetic
-    sums[2] = damping_work
+    sums[2] = dissipated
     sums[3] = p0
     sums[4] = p1
     sums[5] = p2
