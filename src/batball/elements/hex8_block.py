@@ -418,11 +418,12 @@ def gather_nodes(
         cell = np.uint64(start + e)
         slot = np.uint64(e)
         first = _node_offset(cells, cell, 0)
-        origin = first if relative else np.uint64(0)
-        ox, oy, oz = xs[origin], xs[origin + np.uint64(1)], xs[origin + np.uint64(2)]
-        ou, ov, ow = vs[origin], vs[origin + np.uint64(1)], vs[origin + np.uint64(2)]
-        ox, oy, oz = (ox, oy, oz) if relative else (0.0, 0.0, 0.0)
-        ou, ov, ow = (ou, ov, ow) if relative else (0.0, 0.0, 0.0)
+        ox = xs[first] if relative else 0.0
+        oy = xs[first + np.uint64(1)] if relative else 0.0
+        oz = xs[first + np.uint64(2)] if relative else 0.0
+        ou = vs[first] if relative else 0.0
+        ov = vs[first + np.uint64(1)] if relative else 0.0
+        ow = vs[first + np.uint64(2)] if relative else 0.0
         for a in range(8):
             node = _node_offset(cells, cell, a)
             x0, x1, x2 = xs[node], xs[node + np.uint64(1)], xs[node + np.uint64(2)]
