@@ -53,6 +53,15 @@ def slot_node_ranges(cells: np.ndarray, n_slots: int) -> np.ndarray:
     return ranges
 
 
+#: Nodes per block of the update's kinetic-energy, momentum and dissipation sums.
+SUM_BLOCK = 256
+
+
+def sum_blocks(n_points: int) -> np.ndarray:
+    """Scratch for :func:`assemble_and_update`'s sums of ``n_points`` nodes: (n_blocks, 5)."""
+    return np.zeros((max(1, -(-n_points // SUM_BLOCK)), 5))
+
+
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def assemble_and_update(
     nodal_forces: np.ndarray,
@@ -65,6 +74,7 @@ def assemble_and_update(
     velocities: np.ndarray,
     sums: np.ndarray,
     node_sums: np.ndarray,
+    block_sums: np.ndarray,
 ) -> None:
     """Sum the slots of nodal forces (element and contact forces; cleared for the next cycle) and
     take one central-difference step, in place:
@@ -78,10 +88,16 @@ def assemble_and_update(
         points, velocities: (n_points, 3) x^n and v^(n-1/2), advanced in place [m, m/s].
         sums: (6,) out: kinetic energy at n+1/2 [J], (slot 1 is left to the caller: the contact
             work), energy dissipated by the damping [J], and the total momentum [kg m/s].
-        node_sums: (n_points,) scratch: each node's damping dissipation. The step runs over the
-            threads with no sum carried through it, so that it vectorises (a sum carried through
-            a loop keeps LLVM from vectorising it without reassociation); the sums then run in
-            node order over the new velocities, so they do not depend on the number of threads.
+        node_sums: (n_points,) scratch: each node's damping dissipation.
+        block_sums: (n_blocks, 5) scratch (:func:`sum_blocks`).
+
+    The step runs over the threads with no sum carried through it, so that it vectorises (a sum
+    carried through a loop keeps LLVM from vectorising it without reassociation). The sums then
+    run over the threads too, by blocks of SUM_BLOCK nodes, each in node order from the new
+    velocities, and the blocks are added in block order: the sums do not depend on the number
+    of threads, and each thread reads the velocities it has just written (a serial sum read the
+    other thread's half from the other core's cache, and made two threads slower at the update
+    than one).
     """
     # the slots' forces summed into slot 0, in slot order, each slot over its own node range (a
     # slot's forces are zero outside it) and cleared; one slot's nodes are distinct, so each
@@ -123,21 +139,47 @@ def assemble_and_update(
             a1 = 0.5 * (v1 + w1)
             a2 = 0.5 * (v2 + w2)
             node_sums[n] = damping * m * half * (a0 * a0 + a1 * a1 + a2 * a2)
-    motion_sums(mass, velocities, node_sums if damped else node_sums[:0], sums)
+    n_blocks = block_sums.shape[0]
+    for block in nb.prange(n_blocks):
+        lo = block * SUM_BLOCK
+        hi = min(lo + SUM_BLOCK, points.shape[0])
+        motion_sums(mass, velocities, node_sums, lo, hi, damped, block_sums[block])
+    kinetic = 0.0
+    dissipated = 0.0
+    p0 = 0.0
+    p1 = 0.0
+    p2 = 0.0
+    for block in range(n_blocks):
+        kinetic += block_sums[block, 0]
+        dissipated += block_sums[block, 1]
+        p0 += block_sums[block, 2]
+        p1 += block_sums[block, 3]
+        p2 += block_sums[block, 4]
+    sums[0] = kinetic
+    sums[2] = dissipated
+    sums[3] = p0
+    sums[4] = p1
+    sums[5] = p2
 
 
-@nb.njit(fastmath=FASTMATH)
+@nb.njit(fastmath=FASTMATH, inline="always")
 def motion_sums(
-    mass: np.ndarray, velocities: np.ndarray, dissipation: np.ndarray, sums: np.ndarray
+    mass: np.ndarray,
+    velocities: np.ndarray,
+    dissipation: np.ndarray,
+    first: int,
+    end: int,
+    dissipates: bool,
+    out: np.ndarray,
 ) -> None:
-    """The kinetic energy [J], the sum of ``dissipation`` [J] and the momentum [kg m/s] of nodes
-    of ``mass`` moving at ``velocities``, into sums[0], sums[2] and sums[3:6], each summed in
-    node order."""
+    """The kinetic energy [J], the sum of ``dissipation`` [J] (when ``dissipates``) and the
+    momentum [kg m/s] of nodes first..end - 1 of ``mass`` moving at ``velocities``, into out[0],
+    out[1] and out[2:5], each summed in node order."""
     kinetic = 0.0
     p0 = 0.0
     p1 = 0.0
     p2 = 0.0
-    for n in range(velocities.shape[0]):
+    for n in range(first, end):
         m = mass[n]
         w0 = velocities[n, 0]
         w1 = velocities[n, 1]
@@ -147,13 +189,14 @@ def motion_sums(
         p1 += m * w1
         p2 += m * w2
     dissipated = 0.0
-    for n in range(dissipation.shape[0]):
-        dissipated += dissipation[n]
-    sums[0] = kinetic
-    sums[2] = dissipated
-    sums[3] = p0
-    sums[4] = p1
-    sums[5] = p2
+    if dissipates:
+        for n in range(first, end):
+            dissipated += dissipation[n]
+    out[0] = kinetic
+    out[1] = dissipated
+    out[2] = p0
+    out[3] = p1
+    out[4] = p2
 
 
 def contact_node_slots(
@@ -288,8 +331,9 @@ def finish_cycle(
         energy_increments: (n_slots, 3) the element kernel's internal, hourglass, bulk work [J].
         cell_dt: (n_cells,) element stable steps [s]; nodal_forces: (n_slots, n_points, 3) [N].
         nodes: (slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots,
-            node_sums): as in :func:`assemble_and_update`, the (n_points, 3) contact forces
-            (only the contact nodes' rows are used) and :func:`contact_node_slots`.
+            node_sums, block_sums): as in :func:`assemble_and_update`, the (n_points, 3)
+            contact forces (only the contact nodes' rows are used) and
+            :func:`contact_node_slots`.
         contacts: (node_ids, stiffness, offsets, kinds, params, reaction, penetration) of
             ``add_rigid_contact_forces``.
         points, velocities: x^n and v^(n-1/2), advanced in place.
@@ -302,7 +346,9 @@ def finish_cycle(
         CYCLE_OK, CYCLE_SEPARATED or a FAIL_* code (the step is then not taken, or for
         FAIL_NON_FINITE / FAIL_ENERGY taken and recorded; ``counters[ELEMENT]`` names the element).
     """
-    slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots, node_sums = nodes
+    slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots, node_sums, block_sums = (
+        nodes
+    )
     reaction, penetration = contacts[5], contacts[6]
     for c in range(3):
         energies[c] += energy_increments[:, c].sum()
@@ -316,7 +362,7 @@ def finish_cycle(
     move_contact_forces(contact_nodes, contact_slots, contact_forces, nodal_forces)
     assemble_and_update(
         nodal_forces, slot_nodes, mass, limits[DAMPING], clock[DT], dt_new, points, velocities,
-        sums, node_sums,
+        sums, node_sums, block_sums,
     )
     sums[1] = work + 0.5 * dt_new * contact_power(contact_nodes, contact_forces, velocities)
     energies[CONTACT_ENERGY] -= sums[1]

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from batball.solvers.ball_bat import advance_ball, advance_bat, central_difference, take_slot_forces
-from batball.solvers.explicit_kernels import assemble_and_update
+from batball.solvers.explicit_kernels import assemble_and_update, sum_blocks
 
 N = 5000
 H, DT_OLD, DT_NEW = 1.0e-7, 1.0e-7, 1.1e-7
@@ -137,9 +137,9 @@ def test_the_impact_update_sums_the_slots_and_steps_by_the_formula(threads, damp
     for count in threads:
         numba.set_num_threads(count)
         work, points, velocities = slots.copy(), x0.copy(), v0.copy()
-        sums, node_sums = np.zeros(6), np.zeros(N)
+        sums = np.zeros(6)
         assemble_and_update(work, ranges, mass, damping, DT_OLD, DT_NEW, points, velocities,
-                            sums, node_sums)  # fmt: skip
+                            sums, np.zeros(N), sum_blocks(N))  # fmt: skip
         assert not work.any()
         np.testing.assert_allclose(velocities, v, rtol=1e-14, atol=1e-14)
         np.testing.assert_allclose(points, x, rtol=1e-14, atol=1e-14)
