@@ -32,8 +32,10 @@ test_shell_corotational.py``); a rigid rotation of any size strains nothing.
 
 The kernel runs the cells in chunks of up to CHUNK cells of one kind (one shape and section,
 hence one K0), each chunk in one pass through a small work array that stays in cache, the
-nodes' forces then gathered in cell order (the same sums on any number of threads). Cost: a
-force evaluation takes 1.5-1.8 times the BT kernel's on the full bat (benchmarks/RESULTS.md).
+nodes' forces then gathered in cell order (the same sums on any number of threads). Only the
+gather of the corners' positions and rotations is scalar; every other step is a SIMD loop over
+the chunk's cells. Cost: a force evaluation takes 1.2-1.4 times the BT kernel's on the full bat
+(benchmarks/RESULTS.md).
 """
 
 from __future__ import annotations
@@ -124,8 +126,14 @@ CHUNK = 64
 # loops over the columns carry no dependence and vectorises them): the corners' reference
 # positions in the undeformed frame, the current frame E's rows, the corners' cosines, the 24
 # deformational dofs (corner a's displacements at rows 6a..6a+2, rotations at 6a+3..6a+5; later
-# the global forces), the 24 local forces, and the corners' squared sines.
-W_REF, W_FRAME, W_COS, W_D, W_F, W_SINE2, W_ROWS = 0, 12, 21, 25, 49, 73, 77
+# the global forces), the 24 local forces, and the corners' squared sines. Before the local
+# forces are made, the rows from W_F on hold the corners' current positions (W_X, 3 a row each)
+# and total rotations (W_R, 9 a corner, row-major), gathered through the cells.
+W_REF, W_FRAME, W_COS, W_D, W_F, W_SINE2 = 0, 12, 21, 25, 49, 73
+W_X, W_R, W_ROWS = 49, 61, 97
+#: Rows of a chunk's constants (``CorotationalShellForces.constants``): the undeformed frame E0
+#: (row-major) and the corners' reference positions, one column per cell.
+C_FRAME0, C_REF, C_ROWS = 0, 9, 21
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -135,27 +143,38 @@ def load3(w: np.ndarray, row: int, col: int) -> Vec3:
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
-def frame_row_times(e: Vec3, rotations: np.ndarray, n: int) -> Vec3:
-    """The row vector e^T R_n."""
-    return (e[0] * rotations[n, 0, 0] + e[1] * rotations[n, 1, 0] + e[2] * rotations[n, 2, 0],
-            e[0] * rotations[n, 0, 1] + e[1] * rotations[n, 1, 1] + e[2] * rotations[n, 2, 1],
-            e[0] * rotations[n, 0, 2] + e[1] * rotations[n, 1, 2] + e[2] * rotations[n, 2, 2])
+def gather_corners(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray, c: int,
+                   w: np.ndarray, col: int) -> None:  # fmt: skip
+    """Cell ``c``'s corners' positions and total rotations into column ``col`` of the work
+    array's rows W_X and W_R (a scalar loop: its loads go through ``cells``)."""
+    for a in range(4):
+        n = cells[c, a]
+        for k in range(3):
+            w[(W_X + 3 * a + k) * CHUNK + col] = points[n, k]
+        for i in range(3):
+            for j in range(3):
+                w[(W_R + 9 * a + 3 * i + j) * CHUNK + col] = rotations[n, i, j]
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
-def deformation(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
-                frames0: np.ndarray, reference: np.ndarray, c: int, w: np.ndarray,
-                col: int) -> None:  # fmt: skip
-    """Cell ``c`` into column ``col`` of the work array: its corners' reference positions, its
-    deformational displacements (local frame), its current frame's rows, and, of each corner's
+def frame_row_times(e: Vec3, w: np.ndarray, a: int, col: int) -> Vec3:
+    """The row vector e^T R_a of corner ``a``'s rotation in column ``col`` (rows W_R)."""
+    r = (W_R + 9 * a) * CHUNK + col
+    return (e[0] * w[r] + e[1] * w[r + 3 * CHUNK] + e[2] * w[r + 6 * CHUNK],
+            e[0] * w[r + CHUNK] + e[1] * w[r + 4 * CHUNK] + e[2] * w[r + 7 * CHUNK],
+            e[0] * w[r + 2 * CHUNK] + e[1] * w[r + 5 * CHUNK] + e[2] * w[r + 8 * CHUNK])
+
+
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def deformation(constants: np.ndarray, w: np.ndarray, col: int) -> None:
+    """Column ``col`` of the work array, from its corners gathered (:func:`gather_corners`) and
+    the chunk's ``constants`` (C_ROWS * CHUNK,): the corners' reference positions, their
+    deformational displacements (local frame), the current frame's rows, and, of each corner's
     rotation in the frames, E R_a E0^T, the cosine and the sine vector s (the axial vector of
     the skew part, in the rotation rows, which :func:`rotation_vectors` turns into the rotation
-    vector). Scalar: its loads are gathers through ``cells``."""
-    i0, i1, i2, i3 = cells[c, 0], cells[c, 1], cells[c, 2], cells[c, 3]
-    x0 = (points[i0, 0], points[i0, 1], points[i0, 2])
-    x1 = (points[i1, 0], points[i1, 1], points[i1, 2])
-    x2 = (points[i2, 0], points[i2, 1], points[i2, 2])
-    x3 = (points[i3, 0], points[i3, 1], points[i3, 2])
+    vector). Every load and store is a row of a column: a SIMD loop over the columns."""
+    x0, x1 = load3(w, W_X, col), load3(w, W_X + 3, col)
+    x2, x3 = load3(w, W_X + 6, col), load3(w, W_X + 9, col)
     e1, e2, e3 = element_frame(x0, x1, x2, x3)
     for k in range(3):
         w[(W_FRAME + k) * CHUNK + col] = e1[k]
@@ -163,28 +182,43 @@ def deformation(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
         w[(W_FRAME + 6 + k) * CHUNK + col] = e3[k]
     m = (0.25 * (x0[0] + x1[0] + x2[0] + x3[0]), 0.25 * (x0[1] + x1[1] + x2[1] + x3[1]),
          0.25 * (x0[2] + x1[2] + x2[2] + x3[2]))  # fmt: skip
-    f0 = (frames0[c, 0, 0], frames0[c, 0, 1], frames0[c, 0, 2])
-    f1 = (frames0[c, 1, 0], frames0[c, 1, 1], frames0[c, 1, 2])
-    f2 = (frames0[c, 2, 0], frames0[c, 2, 1], frames0[c, 2, 2])
-    for a in range(4):
-        n = cells[c, a]
-        ref = (reference[c, a, 0], reference[c, a, 1], reference[c, a, 2])
-        p = (points[n, 0] - m[0], points[n, 1] - m[1], points[n, 2] - m[2])
-        for k in range(3):
-            w[(W_REF + 3 * a + k) * CHUNK + col] = ref[k]
-        w[(W_D + 6 * a) * CHUNK + col] = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2] - ref[0]
-        w[(W_D + 6 * a + 1) * CHUNK + col] = e2[0] * p[0] + e2[1] * p[1] + e2[2] * p[2] - ref[1]
-        w[(W_D + 6 * a + 2) * CHUNK + col] = e3[0] * p[0] + e3[1] * p[1] + e3[2] * p[2] - ref[2]
-        # the corner's rotation in the frames, E R_a E0^T, row by row
-        r0 = frame_row_times(e1, rotations, n)
-        r1 = frame_row_times(e2, rotations, n)
-        r2 = frame_row_times(e3, rotations, n)
-        m01, m02, m10 = dot3(r0, f1), dot3(r0, f2), dot3(r1, f0)
-        m12, m20, m21 = dot3(r1, f2), dot3(r2, f0), dot3(r2, f1)
-        w[(W_D + 6 * a + 3) * CHUNK + col] = 0.5 * (m21 - m12)
-        w[(W_D + 6 * a + 4) * CHUNK + col] = 0.5 * (m02 - m20)
-        w[(W_D + 6 * a + 5) * CHUNK + col] = 0.5 * (m10 - m01)
-        w[(W_COS + a) * CHUNK + col] = 0.5 * (dot3(r0, f0) + dot3(r1, f1) + dot3(r2, f2) - 1.0)
+    f0 = load3(constants, C_FRAME0, col)
+    f1 = load3(constants, C_FRAME0 + 3, col)
+    f2 = load3(constants, C_FRAME0 + 6, col)
+    # straight-line code: a loop over the corners here would be the innermost loop that LLVM
+    # tries to vectorise, instead of the loop over the columns
+    corner_deformation((e1, e2, e3), m, (f0, f1, f2), constants, w, 0, col)
+    corner_deformation((e1, e2, e3), m, (f0, f1, f2), constants, w, 1, col)
+    corner_deformation((e1, e2, e3), m, (f0, f1, f2), constants, w, 2, col)
+    corner_deformation((e1, e2, e3), m, (f0, f1, f2), constants, w, 3, col)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def corner_deformation(frame: tuple, m: Vec3, frame0: tuple, constants: np.ndarray,
+                       w: np.ndarray, a: int, col: int) -> None:  # fmt: skip
+    """Corner ``a`` of :func:`deformation`: its reference position, deformational displacement
+    and rotation's cosine and sine vector, with the current ``frame`` E, centroid ``m`` and the
+    undeformed frame ``frame0`` E0."""
+    e1, e2, e3 = frame
+    f0, f1, f2 = frame0
+    ref = load3(constants, C_REF + 3 * a, col)
+    x = load3(w, W_X + 3 * a, col)
+    p = (x[0] - m[0], x[1] - m[1], x[2] - m[2])
+    for k in range(3):
+        w[(W_REF + 3 * a + k) * CHUNK + col] = ref[k]
+    w[(W_D + 6 * a) * CHUNK + col] = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2] - ref[0]
+    w[(W_D + 6 * a + 1) * CHUNK + col] = e2[0] * p[0] + e2[1] * p[1] + e2[2] * p[2] - ref[1]
+    w[(W_D + 6 * a + 2) * CHUNK + col] = e3[0] * p[0] + e3[1] * p[1] + e3[2] * p[2] - ref[2]
+    # the corner's rotation in the frames, E R_a E0^T, row by row
+    r0 = frame_row_times(e1, w, a, col)
+    r1 = frame_row_times(e2, w, a, col)
+    r2 = frame_row_times(e3, w, a, col)
+    m01, m02, m10 = dot3(r0, f1), dot3(r0, f2), dot3(r1, f0)
+    m12, m20, m21 = dot3(r1, f2), dot3(r2, f0), dot3(r2, f1)
+    w[(W_D + 6 * a + 3) * CHUNK + col] = 0.5 * (m21 - m12)
+    w[(W_D + 6 * a + 4) * CHUNK + col] = 0.5 * (m02 - m20)
+    w[(W_D + 6 * a + 5) * CHUNK + col] = 0.5 * (m10 - m01)
+    w[(W_COS + a) * CHUNK + col] = 0.5 * (dot3(r0, f0) + dot3(r1, f1) + dot3(r2, f2) - 1.0)
 
 
 #: Below this squared sine (and at a positive cosine) a rotation's angle / sine is its series,
@@ -291,18 +325,19 @@ def balance_moment(w: np.ndarray, col: int) -> None:
 
 @nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
-                 frames0: np.ndarray, reference: np.ndarray, stiffness: np.ndarray,
-                 first: int, stop: int, cell_forces: np.ndarray) -> None:  # fmt: skip
+                 constants: np.ndarray, stiffness: np.ndarray, first: int, stop: int,
+                 cell_forces: np.ndarray) -> None:  # fmt: skip
     """Cells ``first`` to ``stop`` (at most CHUNK, sharing ``stiffness`` (24, 24)): their
     corner forces and moments in global axes into ``cell_forces`` (24 * CHUNK,), dof k of
     the chunk's column col at [k * CHUNK + col]. Every step is a loop over all CHUNK columns
     of the chunk's work array (in cache from one step to the next), the columns past the last
-    cell repeating it; all but the first (:func:`deformation`) are SIMD loops. A call, not
+    cell repeating it; all but the first (:func:`gather_corners`) are SIMD loops. A call, not
     inlined, so that the parallel loop's array analysis does not see the frame's tuples."""
     w = np.empty(W_ROWS * CHUNK)
     for col in range(CHUNK):  # the columns past the last cell repeat it
-        deformation(points, cells, rotations, frames0, reference, min(first + col, stop - 1),
-                    w, col)  # fmt: skip
+        gather_corners(points, cells, rotations, min(first + col, stop - 1), w, col)
+    for col in range(CHUNK):
+        deformation(constants, w, col)
     rotation_vectors(w, stop - first)
     local_product(stiffness, w)
     for col in range(CHUNK):
@@ -318,14 +353,13 @@ def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
 
 @nb.njit(parallel=True, cache=True)
 def all_cell_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
-                    frames0: np.ndarray, reference: np.ndarray, stiffness: np.ndarray,
-                    chunk_start: np.ndarray, chunk_kind: np.ndarray,
-                    cell_forces: np.ndarray) -> None:  # fmt: skip
+                    constants: np.ndarray, stiffness: np.ndarray, chunk_start: np.ndarray,
+                    chunk_kind: np.ndarray, cell_forces: np.ndarray) -> None:  # fmt: skip
     """Every cell's corner forces into ``cell_forces`` (n_chunks, 24 * CHUNK; see
     :func:`chunk_forces`), a chunk of cells of one kind (``chunk_start``, (n_chunks + 1,);
-    ``chunk_kind``, (n_chunks,)) a task."""
+    ``chunk_kind``, (n_chunks,)) a task, with its ``constants`` (n_chunks, C_ROWS * CHUNK)."""
     for t in nb.prange(chunk_kind.shape[0]):
-        chunk_forces(points, cells, rotations, frames0, reference, stiffness[chunk_kind[t]],
+        chunk_forces(points, cells, rotations, constants[t], stiffness[chunk_kind[t]],
                      chunk_start[t], chunk_start[t + 1], cell_forces[t])  # fmt: skip
 
 
@@ -379,6 +413,18 @@ def node_corners(cells: np.ndarray, chunk_start: np.ndarray,
     slot = np.argsort(cells.ravel(), kind="stable")  # cell * 4 + corner, by node then cell
     start = np.searchsorted(cells.ravel()[slot], np.arange(n_points + 1))
     return start.astype(np.int64), position.ravel()[slot].astype(np.int64)
+
+
+def chunk_constants(frames0: np.ndarray, reference: np.ndarray,
+                    chunk_start: np.ndarray) -> np.ndarray:  # fmt: skip
+    """Each chunk's constants as :func:`deformation` reads them, (n_chunks, C_ROWS * CHUNK): the
+    cells' undeformed frames ``frames0`` (n_cells, 3, 3) and corners' reference positions
+    ``reference`` (n_cells, 4, 3), a row per value and a column per cell, the columns past a
+    chunk's last cell repeating it."""
+    n_chunks = chunk_start.size - 1
+    cell = np.minimum(chunk_start[:-1, None] + np.arange(CHUNK), chunk_start[1:, None] - 1)
+    rows = np.concatenate([frames0.reshape(-1, 9), reference.reshape(-1, 12)], axis=1)
+    return np.ascontiguousarray(rows[cell].transpose(0, 2, 1).reshape(n_chunks, C_ROWS * CHUNK))
 
 
 #: Corner coordinates that differ by less than this are the same cell shape [m].
@@ -435,6 +481,7 @@ class CorotationalShellForces:
         self.corner_start, self.corner_slot = node_corners(self.cells, self.chunk_start,
                                                            points.shape[0])  # fmt: skip
         self.cell_forces = np.zeros((self.chunk_kind.size, 24 * CHUNK))
+        self.constants = chunk_constants(self.frames0, self.reference, self.chunk_start)
 
     def __call__(self, points: np.ndarray, velocity: np.ndarray, dt: float,
                  out: np.ndarray) -> None:  # fmt: skip
@@ -442,9 +489,8 @@ class CorotationalShellForces:
         the last step ``dt`` [s] (which first advances the nodes' rotations)."""
         rotations = self.state.history
         advance_rotations(rotations, velocity, dt)
-        all_cell_forces(points, self.cells, rotations, self.frames0, self.reference,
-                        self.stiffness, self.chunk_start, self.chunk_kind,
-                        self.cell_forces)  # fmt: skip
+        all_cell_forces(points, self.cells, rotations, self.constants, self.stiffness,
+                        self.chunk_start, self.chunk_kind, self.cell_forces)  # fmt: skip
         gather_negated(self.corner_start, self.corner_slot, self.cell_forces, out)
 
 
