@@ -48,6 +48,8 @@ import numpy as np
 
 from batball.numerics import FASTMATH
 
+Vec3 = tuple[float, float, float]
+
 
 def column_pairs(
     points: np.ndarray, slave_nodes: np.ndarray, master_rings: np.ndarray
@@ -79,11 +81,15 @@ MAX_WALK = 2
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
-def cross(u: np.ndarray, v: np.ndarray, out: np.ndarray) -> None:
-    """out = u x v (3,)."""
-    out[0] = u[1] * v[2] - u[2] * v[1]
-    out[1] = u[2] * v[0] - u[0] * v[2]
-    out[2] = u[0] * v[1] - u[1] * v[0]
+def cross(u: Vec3, v: Vec3) -> Vec3:
+    """u x v of two 3-tuples."""
+    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def point(points: np.ndarray, n: int) -> Vec3:
+    """Node ``n``'s position as a 3-tuple."""
+    return points[n, 0], points[n, 1], points[n, 2]
 
 
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
@@ -99,19 +105,15 @@ def column_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray,
     turning: + on b and - on a; + on the right column and - on the left, shared 1 - s, s),
     then k p (dg/ds - dt_m/ds) ds/dx on the slave and ds/dx_b on b (a takes minus their sum:
     the closest point's own motion), ``penetration`` p [m]. ``master_thickness`` is indexed by
-    node [m]."""
+    node [m]. The vectors are tuples (an array per slave was a heap allocation)."""
     last, n_around = master_rings.shape[0] - 2, master_rings.shape[1]
     for n in nb.prange(slave_nodes.shape[0]):
-        d, t, c = np.empty(3), np.empty(3), np.empty(3)
-        m, q, out = np.empty(3), np.empty(3), np.empty(3)
-        chord_a, chord_b = np.empty(3), np.empty(3)
-        x = points[slave_nodes[n]]
+        x = point(points, slave_nodes[n])
         j, r, s = column[n], ring[n], 0.0
         for _ in range(MAX_WALK + 1):
-            a, b = master_rings[r, j], master_rings[r + 1, j]
-            for k in range(3):
-                t[k] = points[b, k] - points[a, k]
-                d[k] = x[k] - points[a, k]
+            xa, xb = point(points, master_rings[r, j]), point(points, master_rings[r + 1, j])
+            t = (xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2])
+            d = (x[0] - xa[0], x[1] - xa[1], x[2] - xa[2])
             s = (d[0] * t[0] + d[1] * t[1] + d[2] * t[2]) / (
                 t[0] * t[0] + t[1] * t[1] + t[2] * t[2])
             if s < 0.0 and r > 0:
@@ -124,40 +126,46 @@ def column_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray,
         inside = 0.0 < s < 1.0
         s = min(max(s, 0.0), 1.0)
         left, right = (j - 1) % n_around, (j + 1) % n_around
-        for k in range(3):
-            d[k] = (1.0 - s) * points[a, k] + s * points[b, k] - x[k]
-            t[k] = points[b, k] - points[a, k]
-            chord_a[k] = points[master_rings[r, right], k] - points[master_rings[r, left], k]
-            chord_b[k] = (points[master_rings[r + 1, right], k]
-                          - points[master_rings[r + 1, left], k])  # fmt: skip
-            c[k] = (1.0 - s) * chord_a[k] + s * chord_b[k]
-        cross(c, t, m)  # around x along: outward
+        xa, xb = point(points, a), point(points, b)
+        ar, al = point(points, master_rings[r, right]), point(points, master_rings[r, left])
+        br = point(points, master_rings[r + 1, right])
+        bl = point(points, master_rings[r + 1, left])
+        d = ((1.0 - s) * xa[0] + s * xb[0] - x[0], (1.0 - s) * xa[1] + s * xb[1] - x[1],
+             (1.0 - s) * xa[2] + s * xb[2] - x[2])  # fmt: skip
+        t = (xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2])
+        chord_a = (ar[0] - al[0], ar[1] - al[1], ar[2] - al[2])
+        chord_b = (br[0] - bl[0], br[1] - bl[1], br[2] - bl[2])
+        c = ((1.0 - s) * chord_a[0] + s * chord_b[0], (1.0 - s) * chord_a[1] + s * chord_b[1],
+             (1.0 - s) * chord_a[2] + s * chord_b[2])  # fmt: skip
+        m = cross(c, t)  # around x along: outward
         size = np.sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
         gap = (d[0] * m[0] + d[1] * m[1] + d[2] * m[2]) / size
         reach = slave_thickness[n] + (1.0 - s) * master_thickness[a] + s * master_thickness[b]
         p = max(reach - gap - gap_offset[n], 0.0)
         ring[n], weight_b[n], penetration[n] = r, s, p
         f = slave_stiffness[n] * p
-        for k in range(3):  # q = dg/dm: d's part across n, over |m|
-            q[k] = (d[k] - gap * m[k] / size) / size
+        # q = dg/dm: d's part across n, over |m|
+        q = ((d[0] - gap * m[0] / size) / size, (d[1] - gap * m[1] / size) / size,
+             (d[2] - gap * m[2] / size) / size)  # fmt: skip
+        for k in range(3):
             slave_force[n, k] = -f * m[k] / size
-        cross(q, c, out)
+        along = cross(q, c)
+        around = cross(t, q)
         for k in range(3):
-            tilt_force[n, 0, k] = f * out[k]
-        cross(t, q, out)
-        for k in range(3):
-            tilt_force[n, 1, k] = f * out[k]
+            tilt_force[n, 0, k] = f * along[k]
+            tilt_force[n, 1, k] = f * around[k]
         # s moves with the nodes (the closest point): d(x_m)/ds = t is across n, but the
         # chord and the master's thickness interpolate in s, so dp/ds = dt_m - (t x q).dc/ds
         slide = 0.0
         if inside:
-            slide = f * (out[0] * (chord_b[0] - chord_a[0]) + out[1] * (chord_b[1] - chord_a[1])
-                         + out[2] * (chord_b[2] - chord_a[2])
+            slide = f * (around[0] * (chord_b[0] - chord_a[0])
+                         + around[1] * (chord_b[1] - chord_a[1])
+                         + around[2] * (chord_b[2] - chord_a[2])
                          - (master_thickness[b] - master_thickness[a]))  # fmt: skip
         length2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2]
         for k in range(3):  # ds/dx = t / |t|^2, ds/dx_b = (x - x_a - 2 s t) / |t|^2
             tilt_force[n, 2, k] = slide * t[k] / length2
-            tilt_force[n, 3, k] = slide * (x[k] - points[a, k] - 2.0 * s * t[k]) / length2
+            tilt_force[n, 3, k] = slide * (x[k] - xa[k] - 2.0 * s * t[k]) / length2
 
 
 @nb.njit(cache=True)
@@ -228,14 +236,17 @@ def column_friction_forces(points: np.ndarray, slave_nodes: np.ndarray, master_r
         a = master_rings[ring[n], column[n]]
         b = master_rings[ring[n] + 1, column[n]]
         s = weight_b[n]
-        x = points[slave_nodes[n]]
-        rel, then = np.empty(3), np.empty(3)
+        x = point(points, slave_nodes[n])
         old_ring, old_s = int(last_pair[n, 0]), last_pair[n, 1]
         a_then = master_rings[old_ring, column[n]]
         b_then = master_rings[old_ring + 1, column[n]]
-        for k in range(3):
-            rel[k] = (1.0 - s) * points[a, k] + s * points[b, k] - x[k]
-            then[k] = (1.0 - old_s) * points[a_then, k] + old_s * points[b_then, k] - x[k]
+        xa, xb = point(points, a), point(points, b)
+        ya, yb = point(points, a_then), point(points, b_then)
+        rel = ((1.0 - s) * xa[0] + s * xb[0] - x[0], (1.0 - s) * xa[1] + s * xb[1] - x[1],
+               (1.0 - s) * xa[2] + s * xb[2] - x[2])  # fmt: skip
+        then = ((1.0 - old_s) * ya[0] + old_s * yb[0] - x[0],
+                (1.0 - old_s) * ya[1] + old_s * yb[1] - x[1],
+                (1.0 - old_s) * ya[2] + old_s * yb[2] - x[2])  # fmt: skip
         last_pair[n, 0], last_pair[n, 1] = ring[n], s
         normal_force = np.sqrt(slave_force[n, 0] ** 2 + slave_force[n, 1] ** 2
                                + slave_force[n, 2] ** 2)  # fmt: skip
@@ -254,10 +265,11 @@ def column_friction_forces(points: np.ndarray, slave_nodes: np.ndarray, master_r
         share = (rel[0] * m0 + rel[1] * m1 + rel[2] * m2) / (t_s + t_m)
         t_s, t_m = share * t_s, share * t_m
         arms[n, 0], arms[n, 1] = t_s, t_m
-        w = np.empty(3)  # t_m dtheta_m + t_s dtheta_s
-        for k in range(3):
-            w[k] = (t_m * ((1.0 - s) * rotation_step[a, k] + s * rotation_step[b, k])
-                    + t_s * rotation_step[slave_nodes[n], k])  # fmt: skip
+        ta, tb = point(rotation_step, a), point(rotation_step, b)
+        tn = point(rotation_step, slave_nodes[n])
+        w = (t_m * ((1.0 - s) * ta[0] + s * tb[0]) + t_s * tn[0],
+             t_m * ((1.0 - s) * ta[1] + s * tb[1]) + t_s * tn[1],
+             t_m * ((1.0 - s) * ta[2] + s * tb[2]) + t_s * tn[2])  # t_m dtheta_m + t_s dtheta_s
         d0 = then[0] - last_relative[n, 0] - (w[1] * m2 - w[2] * m1)
         d1 = then[1] - last_relative[n, 1] - (w[2] * m0 - w[0] * m2)
         d2 = then[2] - last_relative[n, 2] - (w[0] * m1 - w[1] * m0)
@@ -279,10 +291,8 @@ def scatter_friction_moments(slave_nodes: np.ndarray, master_rings: np.ndarray,
         size = np.sqrt(slave_force[n, 0] ** 2 + slave_force[n, 1] ** 2 + slave_force[n, 2] ** 2)
         if size == 0.0:
             continue
-        m = -slave_force[n] / size
-        f = friction_force[n]
-        torque = np.array([m[1] * f[2] - m[2] * f[1], m[2] * f[0] - m[0] * f[2],
-                           m[0] * f[1] - m[1] * f[0]])  # fmt: skip
+        m = (-slave_force[n, 0] / size, -slave_force[n, 1] / size, -slave_force[n, 2] / size)
+        torque = cross(m, point(friction_force, n))
         a, b = master_rings[ring[n], column[n]], master_rings[ring[n] + 1, column[n]]
         for k in range(3):
             moments[slave_nodes[n], k] += arms[n, 0] * torque[k]
