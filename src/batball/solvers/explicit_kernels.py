@@ -91,59 +91,19 @@ def assemble_and_update(
         node_sums: (n_points,) scratch: each node's damping dissipation.
         block_sums: (n_blocks, 5) scratch (:func:`sum_blocks`).
 
-    The step runs over the threads with no sum carried through it, so that it vectorises (a sum
-    carried through a loop keeps LLVM from vectorising it without reassociation). The sums then
-    run over the threads too, by blocks of SUM_BLOCK nodes, each in node order from the new
-    velocities, and the blocks are added in block order: the sums do not depend on the number
-    of threads, and each thread reads the velocities it has just written (a serial sum read the
-    other thread's half from the other core's cache, and made two threads slower at the update
-    than one).
+    The nodes run in one parallel loop, each thread a run of whole SUM_BLOCK-node blocks
+    (:func:`update_run`): one fork and join a cycle, where a thread waking the other costs most
+    on a virtual machine, and each thread then reads back only what it has just written. The
+    sums do not depend on the number of threads: each block is summed in node order, the blocks
+    in block order.
     """
-    # the slots' forces summed into slot 0, in slot order, each slot over its own node range (a
-    # slot's forces are zero outside it) and cleared; one slot's nodes are distinct, so each
-    # slot's pass runs over the threads. (The coupled test's ball_bat.take_slot_forces sums every
-    # slot into a separate array: the same sums, but here it cost 60 % more rest of cycle on
-    # one thread.)
-    for slot in range(1, nodal_forces.shape[0]):
-        for n in nb.prange(slot_nodes[slot, 0], slot_nodes[slot, 1]):
-            for i in range(3):
-                nodal_forces[0, n, i] += nodal_forces[slot, n, i]
-                nodal_forces[slot, n, i] = 0.0
-    half = 0.5 * (dt_old + dt_new)
-    keep = 1.0 - 0.5 * damping * half
-    scale = 1.0 / (1.0 + 0.5 * damping * half)
-    damped = damping != 0.0
-    for n in nb.prange(points.shape[0]):
-        f0 = nodal_forces[0, n, 0]
-        f1 = nodal_forces[0, n, 1]
-        f2 = nodal_forces[0, n, 2]
-        nodal_forces[0, n, 0] = 0.0
-        nodal_forces[0, n, 1] = 0.0
-        nodal_forces[0, n, 2] = 0.0
-        m = mass[n]
-        h_m = half / m
-        v0 = velocities[n, 0]
-        v1 = velocities[n, 1]
-        v2 = velocities[n, 2]
-        w0 = (keep * v0 + f0 * h_m) * scale
-        w1 = (keep * v1 + f1 * h_m) * scale
-        w2 = (keep * v2 + f2 * h_m) * scale
-        velocities[n, 0] = w0
-        velocities[n, 1] = w1
-        velocities[n, 2] = w2
-        points[n, 0] += dt_new * w0
-        points[n, 1] += dt_new * w1
-        points[n, 2] += dt_new * w2
-        if damped:
-            a0 = 0.5 * (v0 + w0)
-            a1 = 0.5 * (v1 + w1)
-            a2 = 0.5 * (v2 + w2)
-            node_sums[n] = damping * m * half * (a0 * a0 + a1 * a1 + a2 * a2)
+    n_slots = nodal_forces.shape[0]
     n_blocks = block_sums.shape[0]
-    for block in nb.prange(n_blocks):
-        lo = block * SUM_BLOCK
-        hi = min(lo + SUM_BLOCK, points.shape[0])
-        motion_sums(mass, velocities, node_sums, lo, hi, damped, block_sums[block])
+    half = 0.5 * (dt_old + dt_new)
+    force, x, v = nodal_forces.reshape(-1), points.reshape(-1), velocities.reshape(-1)
+    for run in nb.prange(n_slots):
+        update_run(force, slot_nodes, mass, damping, half, dt_new, x, v, node_sums, block_sums,
+                   run * n_blocks // n_slots, (run + 1) * n_blocks // n_slots)  # fmt: skip
     kinetic = 0.0
     dissipated = 0.0
     p0 = 0.0
@@ -160,6 +120,78 @@ def assemble_and_update(
     sums[3] = p0
     sums[4] = p1
     sums[5] = p2
+
+
+@nb.njit(fastmath=FASTMATH)
+def update_run(
+    force: np.ndarray,
+    slot_nodes: np.ndarray,
+    mass: np.ndarray,
+    damping: float,
+    half: float,
+    dt_new: float,
+    x: np.ndarray,
+    v: np.ndarray,
+    node_sums: np.ndarray,
+    block_sums: np.ndarray,
+    first_block: int,
+    end_block: int,
+) -> None:
+    """:func:`assemble_and_update` on the nodes of blocks first_block..end_block - 1, with the
+    forces, points and velocities flat (n_slots * n_points * 3 and n_points * 3).
+
+    The slots' forces are summed into slot 0 in slot order, each slot over its own node range
+    (a slot's forces are zero outside it) and cleared; then the step, which carries no sum, so
+    that it vectorises (a sum carried through a loop keeps LLVM from vectorising it without
+    reassociation); then each block's sums from the new velocities. The offsets are unsigned,
+    for which Numba adds no negative-index wraparound: with signed ones from a runtime range
+    the step ran 40 % slower. (The coupled test's ball_bat.take_slot_forces sums every slot
+    into a separate array: the same sums, but 60 % more time here on one thread.)
+    """
+    n_points = mass.shape[0]
+    first = first_block * SUM_BLOCK
+    end = min(end_block * SUM_BLOCK, n_points)
+    three, one, two = np.uint64(3), np.uint64(1), np.uint64(2)
+    stride = three * np.uint64(n_points)
+    for slot in range(1, slot_nodes.shape[0]):
+        lo = max(first, slot_nodes[slot, 0])
+        hi = min(end, slot_nodes[slot, 1])
+        if hi > lo:
+            base = np.uint64(slot) * stride
+            for k in range(three * np.uint64(lo), three * np.uint64(hi)):
+                force[k] += force[base + k]
+                force[base + k] = 0.0
+    keep = 1.0 - 0.5 * damping * half
+    scale = 1.0 / (1.0 + 0.5 * damping * half)
+    damped = damping != 0.0
+    for n in range(np.uint64(first), np.uint64(end)):
+        o = three * n
+        f0, f1, f2 = force[o], force[o + one], force[o + two]
+        force[o] = 0.0
+        force[o + one] = 0.0
+        force[o + two] = 0.0
+        m = mass[n]
+        h_m = half / m
+        v0, v1, v2 = v[o], v[o + one], v[o + two]
+        w0 = (keep * v0 + f0 * h_m) * scale
+        w1 = (keep * v1 + f1 * h_m) * scale
+        w2 = (keep * v2 + f2 * h_m) * scale
+        v[o] = w0
+        v[o + one] = w1
+        v[o + two] = w2
+        x[o] += dt_new * w0
+        x[o + one] += dt_new * w1
+        x[o + two] += dt_new * w2
+        if damped:
+            a0 = 0.5 * (v0 + w0)
+            a1 = 0.5 * (v1 + w1)
+            a2 = 0.5 * (v2 + w2)
+            node_sums[n] = damping * m * half * (a0 * a0 + a1 * a1 + a2 * a2)
+    velocities = v.reshape(-1, 3)
+    for block in range(first_block, end_block):
+        lo = block * SUM_BLOCK
+        motion_sums(mass, velocities, node_sums, lo, min(lo + SUM_BLOCK, n_points), damped,
+                    block_sums[block])  # fmt: skip
 
 
 @nb.njit(fastmath=FASTMATH, inline="always")
