@@ -127,8 +127,9 @@ CHUNK = 64
 # positions in the undeformed frame, the current frame E's rows, the corners' cosines, the 24
 # deformational dofs (corner a's displacements at rows 6a..6a+2, rotations at 6a+3..6a+5; later
 # the global forces), the 24 local forces, and the corners' squared sines. Before the local
-# forces are made, the rows from W_F on hold the corners' current positions (W_X, 3 a row each)
-# and total rotations (W_R, 9 a corner, row-major), gathered through the cells.
+# forces are made, the rows from W_F on hold what the cells' corners are gathered into: corner
+# a's current coordinate k at row W_X + 3 a + k and its total rotation's entry (i, j) at row
+# W_R + 9 a + 3 i + j.
 W_REF, W_FRAME, W_COS, W_D, W_F, W_SINE2 = 0, 12, 21, 25, 49, 73
 W_X, W_R, W_ROWS = 49, 61, 97
 #: Rows of a chunk's constants (``CorotationalShellForces.constants``): the undeformed frame E0
@@ -469,7 +470,6 @@ class CorotationalShellForces:
         order = np.argsort(kind, kind="stable")  # cells of a kind together, for one product
         self.cells = np.ascontiguousarray(cells[order], dtype=np.int64)
         self.frames0 = np.ascontiguousarray(frames[order])
-        self.reference = np.ascontiguousarray(reference[order])
         self.kind_start = np.searchsorted(kind[order], np.arange(first.size + 1))
         local_section = ShellSection(*(a[first] for a in (section.abd, section.shear,
                                                           section.areal_mass,
@@ -481,7 +481,8 @@ class CorotationalShellForces:
         self.corner_start, self.corner_slot = node_corners(self.cells, self.chunk_start,
                                                            points.shape[0])  # fmt: skip
         self.cell_forces = np.zeros((self.chunk_kind.size, 24 * CHUNK))
-        self.constants = chunk_constants(self.frames0, self.reference, self.chunk_start)
+        # the undeformed frames and the corners' reference positions, in the kernel's layout
+        self.constants = chunk_constants(self.frames0, reference[order], self.chunk_start)
 
     def __call__(self, points: np.ndarray, velocity: np.ndarray, dt: float,
                  out: np.ndarray) -> None:  # fmt: skip
