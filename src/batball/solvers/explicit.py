@@ -307,7 +307,7 @@ class _Workspace:
         contact_nodes, contact_slots = kern.contact_node_slots(self.contacts[0], slot_nodes)
         n = mesh.n_points
         self.nodes = (slot_nodes, self.mass, self.contact_forces, np.zeros(6), contact_nodes,
-                      contact_slots, np.zeros(n), kern.sum_blocks(n))  # fmt: skip
+                      contact_slots, (np.zeros(n), kern.sum_blocks(n)))  # fmt: skip
         bv = controls.bulk_viscosity
         self.q1, self.q2 = (bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)
         self.row_width = 1 + 4 * len(model.contacts) + 3 + len(ENERGY_COLUMNS) + 1

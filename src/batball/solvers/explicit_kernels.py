@@ -73,8 +73,7 @@ def assemble_and_update(
     points: np.ndarray,
     velocities: np.ndarray,
     sums: np.ndarray,
-    node_sums: np.ndarray,
-    block_sums: np.ndarray,
+    scratch: tuple,
 ) -> None:
     """Sum the slots of nodal forces (element and contact forces; cleared for the next cycle) and
     take one central-difference step, in place:
@@ -88,8 +87,8 @@ def assemble_and_update(
         points, velocities: (n_points, 3) x^n and v^(n-1/2), advanced in place [m, m/s].
         sums: (6,) out: kinetic energy at n+1/2 [J], (slot 1 is left to the caller: the contact
             work), energy dissipated by the damping [J], and the total momentum [kg m/s].
-        node_sums: (n_points,) scratch: each node's damping dissipation.
-        block_sums: (n_blocks, 5) scratch (:func:`sum_blocks`).
+        scratch: (node_sums, block_sums): each node's damping dissipation, (n_points,), and
+            each block's sums (:func:`sum_blocks`).
 
     The nodes run in one parallel loop, each thread a run of whole SUM_BLOCK-node blocks
     (:func:`update_run`): one fork and join a cycle, where a thread waking the other costs most
@@ -97,6 +96,7 @@ def assemble_and_update(
     sums do not depend on the number of threads: each block is summed in node order, the blocks
     in block order.
     """
+    node_sums, block_sums = scratch
     n_slots = nodal_forces.shape[0]
     n_blocks = block_sums.shape[0]
     half = 0.5 * (dt_old + dt_new)
@@ -363,9 +363,8 @@ def finish_cycle(
         energy_increments: (n_slots, 3) the element kernel's internal, hourglass, bulk work [J].
         cell_dt: (n_cells,) element stable steps [s]; nodal_forces: (n_slots, n_points, 3) [N].
         nodes: (slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots,
-            node_sums, block_sums): as in :func:`assemble_and_update`, the (n_points, 3)
-            contact forces (only the contact nodes' rows are used) and
-            :func:`contact_node_slots`.
+            scratch): as in :func:`assemble_and_update`, the (n_points, 3) contact forces
+            (only the contact nodes' rows are used) and :func:`contact_node_slots`.
         contacts: (node_ids, stiffness, offsets, kinds, params, reaction, penetration) of
             ``add_rigid_contact_forces``.
         points, velocities: x^n and v^(n-1/2), advanced in place.
@@ -378,9 +377,7 @@ def finish_cycle(
         CYCLE_OK, CYCLE_SEPARATED or a FAIL_* code (the step is then not taken, or for
         FAIL_NON_FINITE / FAIL_ENERGY taken and recorded; ``counters[ELEMENT]`` names the element).
     """
-    slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots, node_sums, block_sums = (
-        nodes
-    )
+    slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots, scratch = nodes
     reaction, penetration = contacts[5], contacts[6]
     for c in range(3):
         energies[c] += energy_increments[:, c].sum()
@@ -394,7 +391,7 @@ def finish_cycle(
     move_contact_forces(contact_nodes, contact_slots, contact_forces, nodal_forces)
     assemble_and_update(
         nodal_forces, slot_nodes, mass, limits[DAMPING], clock[DT], dt_new, points, velocities,
-        sums, node_sums, block_sums,
+        sums, scratch,
     )
     sums[1] = work + 0.5 * dt_new * contact_power(contact_nodes, contact_forces, velocities)
     energies[CONTACT_ENERGY] -= sums[1]

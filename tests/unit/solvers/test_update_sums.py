@@ -139,7 +139,7 @@ def test_the_impact_update_sums_the_slots_and_steps_by_the_formula(threads, damp
         work, points, velocities = slots.copy(), x0.copy(), v0.copy()
         sums = np.zeros(6)
         assemble_and_update(work, ranges, mass, damping, DT_OLD, DT_NEW, points, velocities,
-                            sums, np.zeros(N), sum_blocks(N))  # fmt: skip
+                            sums, (np.zeros(N), sum_blocks(N)))  # fmt: skip
         assert not work.any()
         np.testing.assert_allclose(velocities, v, rtol=1e-14, atol=1e-14)
         np.testing.assert_allclose(points, x, rtol=1e-14, atol=1e-14)
