@@ -552,6 +552,32 @@ class CoupledResult:
         return self.history[:, HISTORY_COLUMNS.index(name)]
 
 
+@nb.njit(cache=True, fastmath=FASTMATH)
+def kinetic_energy(mass: np.ndarray, velocity: np.ndarray) -> float:
+    """sum m v^2 / 2 over the dofs of (n, k) ``mass`` [kg or kg m^2] and ``velocity`` [J]."""
+    total = 0.0
+    for n in range(mass.shape[0]):
+        node = 0.0
+        for k in range(mass.shape[1]):
+            node += mass[n, k] * velocity[n, k] * velocity[n, k]
+        total += node
+    return 0.5 * total
+
+
+@nb.njit(cache=True)
+def add_and_clear(forces: np.ndarray, contact: np.ndarray, held: np.ndarray) -> None:
+    """forces[:, :3] += the first len(forces) rows of ``contact``, which are then zeroed for the
+    next cycle; the ``held`` nodes' rows of ``forces`` (n, 6) zeroed. One pass where NumPy made
+    three and cleared the whole contact array."""
+    for n in range(forces.shape[0]):
+        for k in range(3):
+            forces[n, k] += contact[n, k]
+            contact[n, k] = 0.0
+    for i in range(held.shape[0]):
+        for k in range(forces.shape[1]):
+            forces[held[i], k] = 0.0
+
+
 def relax_fit(pairs: Sequence[SegmentContact | ColumnContact], *, interference: float,
               ramp_steps: int, settle_steps: int, search_interval: int, points: np.ndarray,
               forces: Callable[[], np.ndarray], mass: np.ndarray, velocity: np.ndarray,
@@ -582,7 +608,7 @@ def relax_fit(pairs: Sequence[SegmentContact | ColumnContact], *, interference: 
             if step % search_interval == 0:
                 pair.search(points)
         central_difference(forces(), mass, velocity, dt, dt, bat_points, moving, factor)
-        kinetic = 0.5 * float(np.sum(mass * velocity**2))
+        kinetic = kinetic_energy(mass, velocity)
         if not np.isfinite(kinetic):
             raise SimulationError(
                 f"insert fit relaxation: the bat's kinetic energy is not finite at cycle "
@@ -697,18 +723,16 @@ class CoupledSolver:
             The bat's kinetic energy at the end over its largest value during the relaxation
             (LS-DYNA's DRTOL measure).
         """
-        m, n_bat = self.model, self.model.n_bat
+        m = self.model
         inserts = m.contacts[m.ball_contacts :]
         contact = np.zeros((self.points.shape[0], 3))
         self.dt = m.bat.stable_step
 
         def bat_forces() -> np.ndarray:  # the ball, at rest and apart, is not computed
             self.bat_element_forces()
-            contact[:] = 0.0
-            for pair in inserts:
+            for pair in inserts:  # the inserts' nodes are the bat's
                 pair.add_forces(self.points, contact)
-            self.bat_forces[:, :3] += contact[:n_bat]
-            self.bat_forces[m.bat.band] = 0.0  # the pivot band held still
+            add_and_clear(self.bat_forces, contact, m.bat.band)  # the pivot band held still
             return self.bat_forces
 
         ratio = relax_fit(inserts, interference=interference, ramp_steps=ramp_steps,
