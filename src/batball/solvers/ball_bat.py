@@ -554,7 +554,8 @@ class CoupledResult:
 
 @nb.njit(cache=True, fastmath=FASTMATH)
 def kinetic_energy(mass: np.ndarray, velocity: np.ndarray) -> float:
-    """sum m v^2 / 2 over the dofs of (n, k) ``mass`` [kg or kg m^2] and ``velocity`` [J]."""
+    """The kinetic energy [J], sum m v^2 / 2 over the dofs of (n, k) ``mass`` [kg; kg m^2 for a
+    rotation] and ``velocity`` [m/s; rad/s], node by node."""
     total = 0.0
     for n in range(mass.shape[0]):
         node = 0.0
