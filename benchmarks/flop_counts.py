@@ -250,7 +250,7 @@ MITC4_SHELL: dict[str, int] = {
     "moment balance": 250,
     # chunk_forces: E^T g for the 8 triples of a cell
     "to global axes": 120,
-    # gather_negated: 24 subtractions per cell into its nodes
+    # gather_node: 24 subtractions per cell into its nodes
     "gather forces": 24,
 }
 

@@ -31,8 +31,9 @@ With the nodes barely moved the forces equal the statics' K u (``tests/unit/elem
 test_shell_corotational.py``); a rigid rotation of any size strains nothing.
 
 The kernel runs the cells in chunks of up to CHUNK cells of one kind (one shape and section,
-hence one K0), each chunk in one pass through a small work array that stays in cache, the
-nodes' forces then gathered in cell order (the same sums on any number of threads). Only the
+hence one K0), each chunk in one pass through a small work array that stays in cache, and
+gathers each node's forces from its corners, in cell order (the same sums on any number of
+threads), as soon as the chunk that makes its last corner is done. Only the
 gather of the corners' positions and rotations is scalar; every other step is a SIMD loop over
 the chunk's cells. Cost: a force evaluation takes 1.2-1.4 times the BT kernel's on the full bat
 (benchmarks/RESULTS.md).
@@ -352,38 +353,61 @@ def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
     cell_forces[:] = w[W_D * CHUNK : (W_D + 24) * CHUNK]
 
 
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def gather_node(n: int, corner_start: np.ndarray, corner_slot: np.ndarray, flat: np.ndarray,
+                out: np.ndarray) -> None:  # fmt: skip
+    """out[n] (6,) = minus the sum of node ``n``'s corner forces in the kernel's flat output
+    ``flat``: its corners are at ``corner_slot[corner_start[n]:corner_start[n + 1]]`` (their
+    first dof; the next at + CHUNK each), in increasing cell order."""
+    t0 = t1 = t2 = t3 = t4 = t5 = 0.0
+    for e in range(corner_start[n], corner_start[n + 1]):
+        at = corner_slot[e]
+        t0 -= flat[at]
+        t1 -= flat[at + CHUNK]
+        t2 -= flat[at + 2 * CHUNK]
+        t3 -= flat[at + 3 * CHUNK]
+        t4 -= flat[at + 4 * CHUNK]
+        t5 -= flat[at + 5 * CHUNK]
+    out[n, 0], out[n, 1], out[n, 2], out[n, 3], out[n, 4], out[n, 5] = t0, t1, t2, t3, t4, t5
+
+
 @nb.njit(parallel=True, cache=True)
-def all_cell_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
-                    constants: np.ndarray, stiffness: np.ndarray, chunk_start: np.ndarray,
-                    chunk_kind: np.ndarray, cell_forces: np.ndarray) -> None:  # fmt: skip
+def cell_and_node_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
+                         constants: np.ndarray, stiffness: np.ndarray, chunks: tuple,
+                         corners: tuple, cell_forces: np.ndarray, out: np.ndarray,
+                         n_runs: int) -> None:  # fmt: skip
     """Every cell's corner forces into ``cell_forces`` (n_chunks, 24 * CHUNK; see
-    :func:`chunk_forces`), a chunk of cells of one kind (``chunk_start``, (n_chunks + 1,);
-    ``chunk_kind``, (n_chunks,)) a task, with its ``constants`` (n_chunks, C_ROWS * CHUNK)."""
-    for t in nb.prange(chunk_kind.shape[0]):
-        chunk_forces(points, cells, rotations, constants[t], stiffness[chunk_kind[t]],
-                     chunk_start[t], chunk_start[t + 1], cell_forces[t])  # fmt: skip
+    :func:`chunk_forces`) and the nodes' forces, minus the sums of their corners', into
+    ``out`` (n_points, 6).
 
-
-@nb.njit(parallel=True, cache=True)
-def gather_negated(corner_start: np.ndarray, corner_slot: np.ndarray,
-                   cell_forces: np.ndarray, out: np.ndarray) -> None:  # fmt: skip
-    """out (n_points, 6) = minus the sum of the cells' corner forces ``cell_forces`` (n_chunks,
-    24 * CHUNK) (the forces on the nodes): node n's corners are at the flat positions
-    ``corner_slot[corner_start[n]:corner_start[n + 1]]`` (their first dof; the next at
-    + CHUNK each), in increasing cell order, so each node's sum is the same on any number of
-    threads."""
+    ``chunks`` (chunk_start, (n_chunks + 1,); chunk_kind, (n_chunks,)) are the tasks, a chunk
+    of cells of one kind each, with their ``constants`` (n_chunks, C_ROWS * CHUNK); ``corners``
+    (:func:`node_corners`) where each node's corners are and when they are all made. The
+    chunks run in one parallel loop, in ``n_runs`` runs of consecutive chunks (one a thread;
+    the caller passes :func:`numba.get_num_threads`: a kernel that calls it is not cached);
+    right after a chunk a thread sums the nodes whose last corner it has just made, if their
+    first corner is in its run too, while their corners are still in cache; the few nodes
+    whose corners two runs made are summed after the loop. Each node's sum runs over its
+    corners in cell order, so the forces are the same on any number of threads.
+    """
+    chunk_start, chunk_kind = chunks
+    corner_start, corner_slot, node_start, nodes, first_chunk = corners
     flat = cell_forces.ravel()
-    for n in nb.prange(out.shape[0]):
-        t0 = t1 = t2 = t3 = t4 = t5 = 0.0
-        for e in range(corner_start[n], corner_start[n + 1]):
-            at = corner_slot[e]
-            t0 -= flat[at]
-            t1 -= flat[at + CHUNK]
-            t2 -= flat[at + 2 * CHUNK]
-            t3 -= flat[at + 3 * CHUNK]
-            t4 -= flat[at + 4 * CHUNK]
-            t5 -= flat[at + 5 * CHUNK]
-        out[n, 0], out[n, 1], out[n, 2], out[n, 3], out[n, 4], out[n, 5] = t0, t1, t2, t3, t4, t5
+    n_chunks = chunk_kind.shape[0]
+    n_runs = max(1, min(n_runs, n_chunks))
+    for run in nb.prange(n_runs):
+        begin, stop = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
+        for t in range(begin, stop):
+            chunk_forces(points, cells, rotations, constants[t], stiffness[chunk_kind[t]],
+                         chunk_start[t], chunk_start[t + 1], cell_forces[t])  # fmt: skip
+            for i in range(node_start[t], node_start[t + 1]):
+                if first_chunk[nodes[i]] >= begin:
+                    gather_node(nodes[i], corner_start, corner_slot, flat, out)
+    for run in range(1, n_runs):  # the nodes whose corners two runs made
+        begin, stop = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
+        for i in range(node_start[begin], node_start[stop]):
+            if first_chunk[nodes[i]] < begin:
+                gather_node(nodes[i], corner_start, corner_slot, flat, out)
 
 
 def kind_chunks(kind_start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -401,11 +425,16 @@ def kind_chunks(kind_start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return start, np.concatenate(kinds).astype(np.int64)
 
 
-def node_corners(cells: np.ndarray, chunk_start: np.ndarray,
-                 n_points: int) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
-    """Each node's cell corners for :func:`gather_negated`: (start, (n_points + 1,); the flat
-    position of the corner's first dof in the kernel's (n_chunks, 24 * CHUNK) output, in
-    increasing cell order)."""
+def node_corners(cells: np.ndarray, chunk_start: np.ndarray, n_points: int) -> tuple:
+    """Each node's cell corners for :func:`cell_and_node_forces`, as int64 arrays:
+
+    * corner_start (n_points + 1,) and corner_slot: node n's corners, in increasing cell order,
+      at ``corner_slot[corner_start[n]:corner_start[n + 1]]``, the flat position of the
+      corner's first dof in the kernel's (n_chunks, 24 * CHUNK) output;
+    * node_start (n_chunks + 1,) and nodes (n_points,): the nodes whose last corner is in chunk
+      t at ``nodes[node_start[t]:node_start[t + 1]]`` (a node of no cell with chunk 0's);
+    * first_chunk (n_points,): the chunk of each node's first corner (0 for a node of no cell).
+    """
     n_cells = cells.shape[0]
     chunk = np.repeat(np.arange(chunk_start.size - 1), np.diff(chunk_start))
     col = np.arange(n_cells) - chunk_start[chunk]
@@ -413,7 +442,14 @@ def node_corners(cells: np.ndarray, chunk_start: np.ndarray,
     position = chunk[:, None] * 24 * CHUNK + 6 * corner * CHUNK + col[:, None]
     slot = np.argsort(cells.ravel(), kind="stable")  # cell * 4 + corner, by node then cell
     start = np.searchsorted(cells.ravel()[slot], np.arange(n_points + 1))
-    return start.astype(np.int64), position.ravel()[slot].astype(np.int64)
+    corner_chunk = np.repeat(chunk, 4)[slot]  # non-decreasing within each node's corners
+    used = start[1:] > start[:-1]
+    first, last = np.zeros(n_points, np.int64), np.zeros(n_points, np.int64)
+    first[used], last[used] = corner_chunk[start[:-1][used]], corner_chunk[start[1:][used] - 1]
+    nodes = np.argsort(last, kind="stable")
+    node_start = np.searchsorted(last[nodes], np.arange(chunk_start.size))
+    return (start.astype(np.int64), position.ravel()[slot].astype(np.int64),
+            node_start.astype(np.int64), nodes.astype(np.int64), first)  # fmt: skip
 
 
 def chunk_constants(frames0: np.ndarray, reference: np.ndarray,
@@ -478,8 +514,7 @@ class CorotationalShellForces:
         self.stiffness = np.ascontiguousarray(stiffness)
         self.state = initial_rotations(points.shape[0]) if state is None else state
         self.chunk_start, self.chunk_kind = kind_chunks(self.kind_start)
-        self.corner_start, self.corner_slot = node_corners(self.cells, self.chunk_start,
-                                                           points.shape[0])  # fmt: skip
+        self.corners = node_corners(self.cells, self.chunk_start, points.shape[0])
         self.cell_forces = np.zeros((self.chunk_kind.size, 24 * CHUNK))
         # the undeformed frames and the corners' reference positions, in the kernel's layout
         self.constants = chunk_constants(self.frames0, reference[order], self.chunk_start)
@@ -490,9 +525,9 @@ class CorotationalShellForces:
         the last step ``dt`` [s] (which first advances the nodes' rotations)."""
         rotations = self.state.history
         advance_rotations(rotations, velocity, dt)
-        all_cell_forces(points, self.cells, rotations, self.constants, self.stiffness,
-                        self.chunk_start, self.chunk_kind, self.cell_forces)  # fmt: skip
-        gather_negated(self.corner_start, self.corner_slot, self.cell_forces, out)
+        cell_and_node_forces(points, self.cells, rotations, self.constants, self.stiffness,
+                             (self.chunk_start, self.chunk_kind), self.corners,
+                             self.cell_forces, out, nb.get_num_threads())  # fmt: skip
 
 
 def critical_step(shells: CorotationalShellForces, mass: np.ndarray) -> float:
