@@ -32,8 +32,8 @@ test_shell_corotational.py``); a rigid rotation of any size strains nothing.
 
 The kernel runs the cells in chunks of up to CHUNK cells of one kind (one shape and section,
 hence one K0), each chunk in one pass through a small work array that stays in cache, and
-gathers each node's forces from its corners, in cell order (the same sums on any number of
-threads), as soon as the chunk that makes its last corner is done. Only the
+adds each corner's forces into its node as soon as the chunk has made them, in cell order (the
+same sums on any number of threads). Only the
 gather of the corners' positions and rotations is scalar; every other step is a SIMD loop over
 the chunk's cells. Cost: a force evaluation takes 1.2-1.4 times the BT kernel's on the full bat
 (benchmarks/RESULTS.md).
@@ -325,16 +325,44 @@ def balance_moment(w: np.ndarray, col: int) -> None:
             w[(W_F + 6 * a + k) * CHUNK + col] += t[k]
 
 
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def scatter_chunk(w: np.ndarray, cells: np.ndarray, first: int, stop: int, run: tuple,
+                  corners: tuple, shared: np.ndarray, out: np.ndarray) -> None:  # fmt: skip
+    """The global corner forces of cells ``first`` to ``stop`` (the work array's rows W_D..)
+    into their nodes: a node whose corners are all made by this ``run`` (begin, end: its
+    chunks) gets minus each corner's forces in ``out`` (n_points, 6), the first corner's
+    setting it (0 - f), the next ones' subtracted, so in cell order; a node whose corners two
+    runs make gets its corners stored in the chunk's ``shared`` (24 * CHUNK,), dof k of
+    column col at [k * CHUNK + col], for :func:`gather_node` after the parallel loop."""
+    begin, end = run
+    first_chunk, last_chunk, first_corner = corners[4], corners[5], corners[6]
+    for col in range(stop - first):
+        c = first + col
+        for a in range(4):
+            n = cells[c, a]
+            row = (W_D + 6 * a) * CHUNK + col
+            if first_chunk[n] < begin or last_chunk[n] >= end:
+                for k in range(6):
+                    shared[(6 * a + k) * CHUNK + col] = w[row + k * CHUNK]
+            elif first_corner[n] == 4 * c + a:
+                for k in range(6):
+                    out[n, k] = 0.0 - w[row + k * CHUNK]
+            else:
+                for k in range(6):
+                    out[n, k] -= w[row + k * CHUNK]
+
+
 @nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
                  constants: np.ndarray, stiffness: np.ndarray, first: int, stop: int,
-                 cell_forces: np.ndarray) -> None:  # fmt: skip
+                 run: tuple, corners: tuple, shared: np.ndarray,
+                 out: np.ndarray) -> None:  # fmt: skip
     """Cells ``first`` to ``stop`` (at most CHUNK, sharing ``stiffness`` (24, 24)): their
-    corner forces and moments in global axes into ``cell_forces`` (24 * CHUNK,), dof k of
-    the chunk's column col at [k * CHUNK + col]. Every step is a loop over all CHUNK columns
-    of the chunk's work array (in cache from one step to the next), the columns past the last
-    cell repeating it; all but the first (:func:`gather_corners`) are SIMD loops. A call, not
-    inlined, so that the parallel loop's array analysis does not see the frame's tuples."""
+    corner forces and moments in global axes, into their nodes (:func:`scatter_chunk`). Every
+    step but the scatter is a loop over all CHUNK columns of the chunk's work array (in cache
+    from one step to the next), the columns past the last cell repeating it; all but the
+    first (:func:`gather_corners`) are SIMD loops. A call, not inlined, so that the parallel
+    loop's array analysis does not see the frame's tuples."""
     w = np.empty(W_ROWS * CHUNK)
     for col in range(CHUNK):  # the columns past the last cell repeat it
         gather_corners(points, cells, rotations, min(first + col, stop - 1), w, col)
@@ -350,15 +378,15 @@ def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
             g = load3(w, W_F + k, col)
             for i in range(3):
                 w[(W_D + k + i) * CHUNK + col] = e1[i] * g[0] + e2[i] * g[1] + e3[i] * g[2]
-    cell_forces[:] = w[W_D * CHUNK : (W_D + 24) * CHUNK]
+    scatter_chunk(w, cells, first, stop, run, corners, shared, out)
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def gather_node(n: int, corner_start: np.ndarray, corner_slot: np.ndarray, flat: np.ndarray,
                 out: np.ndarray) -> None:  # fmt: skip
-    """out[n] (6,) = minus the sum of node ``n``'s corner forces in the kernel's flat output
-    ``flat``: its corners are at ``corner_slot[corner_start[n]:corner_start[n + 1]]`` (their
-    first dof; the next at + CHUNK each), in increasing cell order."""
+    """out[n] (6,) = minus the sum of node ``n``'s corner forces in the flat store ``flat``:
+    its corners are at ``corner_slot[corner_start[n]:corner_start[n + 1]]`` (their first dof;
+    the next at + CHUNK each), in increasing cell order."""
     t0 = t1 = t2 = t3 = t4 = t5 = 0.0
     for e in range(corner_start[n], corner_start[n + 1]):
         at = corner_slot[e]
@@ -374,38 +402,35 @@ def gather_node(n: int, corner_start: np.ndarray, corner_slot: np.ndarray, flat:
 @nb.njit(parallel=True, cache=True)
 def cell_and_node_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
                          constants: np.ndarray, stiffness: np.ndarray, chunks: tuple,
-                         corners: tuple, cell_forces: np.ndarray, out: np.ndarray,
+                         corners: tuple, shared: np.ndarray, out: np.ndarray,
                          n_runs: int) -> None:  # fmt: skip
-    """Every cell's corner forces into ``cell_forces`` (n_chunks, 24 * CHUNK; see
-    :func:`chunk_forces`) and the nodes' forces, minus the sums of their corners', into
-    ``out`` (n_points, 6).
+    """The nodes' forces, minus the sums of their cells' corner forces, into ``out``
+    (n_points, 6).
 
     ``chunks`` (chunk_start, (n_chunks + 1,); chunk_kind, (n_chunks,)) are the tasks, a chunk
     of cells of one kind each, with their ``constants`` (n_chunks, C_ROWS * CHUNK); ``corners``
-    (:func:`node_corners`) where each node's corners are and when they are all made. The
-    chunks run in one parallel loop, in ``n_runs`` runs of consecutive chunks (one a thread;
-    the caller passes :func:`numba.get_num_threads`: a kernel that calls it is not cached);
-    right after a chunk a thread sums the nodes whose last corner it has just made, if their
-    first corner is in its run too, while their corners are still in cache; the few nodes
-    whose corners two runs made are summed after the loop. Each node's sum runs over its
-    corners in cell order, so the forces are the same on any number of threads.
+    (:func:`node_corners`) where each node's corners are. The chunks run in one parallel loop,
+    in ``n_runs`` runs of consecutive chunks (one a thread; the caller passes
+    :func:`numba.get_num_threads`: a kernel that calls it is not cached). A run adds each
+    corner's forces into its node as soon as the chunk has made them, if the node's corners
+    are all in the run; the corners of the few nodes that two runs share go to ``shared``
+    (n_chunks, 24 * CHUNK) and are summed after the loop. Either way each node's sum runs over
+    its corners in cell order, so the forces are the same on any number of threads.
     """
     chunk_start, chunk_kind = chunks
-    corner_start, corner_slot, node_start, nodes, first_chunk = corners
-    flat = cell_forces.ravel()
+    corner_start, corner_slot, node_start, nodes, first_chunk = corners[:5]
     n_chunks = chunk_kind.shape[0]
     n_runs = max(1, min(n_runs, n_chunks))
     for run in nb.prange(n_runs):
-        begin, stop = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
-        for t in range(begin, stop):
+        begin, end = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
+        for t in range(begin, end):
             chunk_forces(points, cells, rotations, constants[t], stiffness[chunk_kind[t]],
-                         chunk_start[t], chunk_start[t + 1], cell_forces[t])  # fmt: skip
-            for i in range(node_start[t], node_start[t + 1]):
-                if first_chunk[nodes[i]] >= begin:
-                    gather_node(nodes[i], corner_start, corner_slot, flat, out)
-    for run in range(1, n_runs):  # the nodes whose corners two runs made
-        begin, stop = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
-        for i in range(node_start[begin], node_start[stop]):
+                         chunk_start[t], chunk_start[t + 1], (begin, end), corners, shared[t],
+                         out)  # fmt: skip
+    flat = shared.ravel()
+    for run in range(n_runs):  # the nodes two runs share, and those of no cell
+        begin, end = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
+        for i in range(node_start[begin], node_start[end]):
             if first_chunk[nodes[i]] < begin:
                 gather_node(nodes[i], corner_start, corner_slot, flat, out)
 
@@ -430,10 +455,12 @@ def node_corners(cells: np.ndarray, chunk_start: np.ndarray, n_points: int) -> t
 
     * corner_start (n_points + 1,) and corner_slot: node n's corners, in increasing cell order,
       at ``corner_slot[corner_start[n]:corner_start[n + 1]]``, the flat position of the
-      corner's first dof in the kernel's (n_chunks, 24 * CHUNK) output;
+      corner's first dof in the kernel's (n_chunks, 24 * CHUNK) store of shared corners;
     * node_start (n_chunks + 1,) and nodes (n_points,): the nodes whose last corner is in chunk
       t at ``nodes[node_start[t]:node_start[t + 1]]`` (a node of no cell with chunk 0's);
-    * first_chunk (n_points,): the chunk of each node's first corner (0 for a node of no cell).
+    * first_chunk and last_chunk (n_points,): the chunks of each node's first and last corner
+      (-1 and 0 for a node of no cell);
+    * first_corner (n_points,): each node's first corner, 4 * cell + corner (-1: no cell).
     """
     n_cells = cells.shape[0]
     chunk = np.repeat(np.arange(chunk_start.size - 1), np.diff(chunk_start))
@@ -444,12 +471,14 @@ def node_corners(cells: np.ndarray, chunk_start: np.ndarray, n_points: int) -> t
     start = np.searchsorted(cells.ravel()[slot], np.arange(n_points + 1))
     corner_chunk = np.repeat(chunk, 4)[slot]  # non-decreasing within each node's corners
     used = start[1:] > start[:-1]
-    first, last = np.zeros(n_points, np.int64), np.zeros(n_points, np.int64)
+    first, last = np.full(n_points, -1), np.zeros(n_points, np.int64)
     first[used], last[used] = corner_chunk[start[:-1][used]], corner_chunk[start[1:][used] - 1]
+    first_corner = np.full(n_points, -1)
+    first_corner[used] = slot[start[:-1][used]]
     nodes = np.argsort(last, kind="stable")
     node_start = np.searchsorted(last[nodes], np.arange(chunk_start.size))
-    return (start.astype(np.int64), position.ravel()[slot].astype(np.int64),
-            node_start.astype(np.int64), nodes.astype(np.int64), first)  # fmt: skip
+    return tuple(a.astype(np.int64) for a in (start, position.ravel()[slot], node_start, nodes,
+                                              first, last, first_corner))  # fmt: skip
 
 
 def chunk_constants(frames0: np.ndarray, reference: np.ndarray,
@@ -515,7 +544,7 @@ class CorotationalShellForces:
         self.state = initial_rotations(points.shape[0]) if state is None else state
         self.chunk_start, self.chunk_kind = kind_chunks(self.kind_start)
         self.corners = node_corners(self.cells, self.chunk_start, points.shape[0])
-        self.cell_forces = np.zeros((self.chunk_kind.size, 24 * CHUNK))
+        self.shared = np.zeros((self.chunk_kind.size, 24 * CHUNK))  # see cell_and_node_forces
         # the undeformed frames and the corners' reference positions, in the kernel's layout
         self.constants = chunk_constants(self.frames0, reference[order], self.chunk_start)
 
@@ -527,7 +556,7 @@ class CorotationalShellForces:
         advance_rotations(rotations, velocity, dt)
         cell_and_node_forces(points, self.cells, rotations, self.constants, self.stiffness,
                              (self.chunk_start, self.chunk_kind), self.corners,
-                             self.cell_forces, out, nb.get_num_threads())  # fmt: skip
+                             self.shared, out, nb.get_num_threads())  # fmt: skip
 
 
 def critical_step(shells: CorotationalShellForces, mass: np.ndarray) -> float:
