@@ -45,18 +45,15 @@ from dataclasses import dataclass
 
 import numba as nb
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import eigsh
+from scipy.sparse.linalg import LinearOperator, eigsh
 
 from batball.elements.hex8_geometry import cross
 from batball.elements.shell_bt import Vec3, dot3, element_frame
 from batball.elements.shell_stiffness import (
     DRILLING_FACTOR,
     ShellSection,
-    assemble,
     element_frames,
     local_stiffness,
-    to_global,
 )
 from batball.errors import SimulationError
 from batball.numerics import FASTMATH
@@ -559,15 +556,59 @@ class CorotationalShellForces:
                              self.shared, out, nb.get_num_threads())  # fmt: skip
 
 
+@nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
+def scaled_stiffness_product(x: np.ndarray, cells: np.ndarray, kinds: np.ndarray,
+                             stiffness: np.ndarray, frames: np.ndarray, scale: np.ndarray,
+                             y: np.ndarray) -> None:  # fmt: skip
+    """y = S K S x without K: K the undeformed shells' stiffness, the sum over the cells of
+    T^T K0 T (K0 = ``stiffness[kinds[c]]``, (24, 24), in the cell's frame, T its ``frames``
+    (n_cells, 3, 3), rows e_a, on each corner's translations and rotations), S = diag(``scale``);
+    x, y (6 n_points,)."""
+    y[:] = 0.0
+    local = np.empty(24)
+    force = np.empty(24)
+    for c in range(cells.shape[0]):
+        f = frames[c]
+        for a in range(4):
+            for b in range(2):  # translations, rotations
+                d = 6 * cells[c, a] + 3 * b
+                g0, g1, g2 = scale[d] * x[d], scale[d + 1] * x[d + 1], scale[d + 2] * x[d + 2]
+                for i in range(3):
+                    local[6 * a + 3 * b + i] = f[i, 0] * g0 + f[i, 1] * g1 + f[i, 2] * g2
+        k = stiffness[kinds[c]]
+        for i in range(24):
+            total = 0.0
+            for j in range(24):
+                total += k[i, j] * local[j]
+            force[i] = total
+        for a in range(4):
+            for b in range(2):
+                d = 6 * cells[c, a] + 3 * b
+                h0, h1, h2 = force[6 * a + 3 * b], force[6 * a + 3 * b + 1], \
+                    force[6 * a + 3 * b + 2]
+                for j in range(3):
+                    y[d + j] += scale[d + j] * (f[0, j] * h0 + f[1, j] * h1 + f[2, j] * h2)
+
+
 def critical_step(shells: CorotationalShellForces, mass: np.ndarray) -> float:
     """The undeformed shells' critical step 2 / omega_max [s] with the lumped ``mass`` (n, 6):
-    omega_max^2 the largest eigenvalue of M^-1/2 K M^-1/2 (Lanczos, to 1e-4)."""
+    omega_max^2 the largest eigenvalue of M^-1/2 K M^-1/2 (Lanczos, to 1e-4), its products
+    taken cell by cell (:func:`scaled_stiffness_product`): on the full bat 0.2 s against
+    1.3 s and 0.4 GB for assembling K (each cell's 24 x 24 in global axes, then the sparse
+    matrix)."""
     kinds = np.repeat(np.arange(shells.stiffness.shape[0]), np.diff(shells.kind_start))
-    local = shells.stiffness[kinds].reshape(-1, 8, 3, 8, 3)
-    stiffness = assemble(to_global(local, shells.frames0), shells.cells, mass.shape[0])
-    scale = sp.diags(1.0 / np.sqrt(mass.ravel()))
-    start = np.ones(stiffness.shape[0])  # a fixed start: the same step run after run
-    largest = eigsh(scale @ stiffness @ scale, k=1, which="LA", tol=1e-4, v0=start,
+    scale = 1.0 / np.sqrt(mass.ravel())
+    product = np.empty(scale.size)
+
+    def matvec(x: np.ndarray) -> np.ndarray:
+        vector = np.ascontiguousarray(x, dtype=np.float64).ravel()
+        scaled_stiffness_product(vector, shells.cells, kinds, shells.stiffness, shells.frames0,
+                                 scale, product)  # fmt: skip
+        return product.copy()
+
+    operator = LinearOperator((scale.size, scale.size), matvec=matvec, dtype=np.float64)
+    start = np.ones(scale.size)  # a fixed start: the same step run after run
+    largest = eigsh(operator, k=1, which="LA", tol=1e-4, v0=start,
                     return_eigenvectors=False)[0]  # fmt: skip
     return float(2.0 / np.sqrt(largest))
 
