@@ -22,7 +22,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.stats import qmc
 
 from batball.calibrate.study import CalibrationProblem, Evaluation, Evaluator
 
@@ -113,6 +112,8 @@ def global_stage(
     memo = _Memo(problem, evaluator, "global")
     points = [start]
     if options.global_points > 0:
+        from scipy.stats import qmc  # imported here: scipy.stats takes 0.3 s to import
+
         sampler = qmc.LatinHypercube(d=start.size, seed=options.seed)
         points.extend(sampler.random(options.global_points))
     found = memo.batch(np.array(points))
