@@ -110,6 +110,18 @@ def test_the_relaxation_step_is_the_formula_on_any_thread_count(threads) -> None
         np.testing.assert_allclose(points, x, rtol=1e-14, atol=1e-300)
 
 
+def slot_problem(rng: np.random.Generator, ranges: np.ndarray,
+                 n: int) -> tuple[np.ndarray, ...]:  # fmt: skip
+    """An impact update's input on ``n`` nodes: three slots of random forces, each zero outside
+    its node range in ``ranges``, the masses (1 to 2) and random x^n and v^(n-1/2)."""
+    slots = np.zeros((3, n, 3))
+    for slot, (lo, hi) in enumerate(ranges):
+        slots[slot, lo:hi] = rng.normal(size=(hi - lo, 3))
+    mass = 1.0 + rng.random(n)
+    x0, v0 = rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
+    return slots, mass, x0, v0
+
+
 @pytest.mark.parametrize("damping", [0.0, 2.0e4])
 def test_the_impact_update_sums_the_slots_and_steps_by_the_formula(threads, damping) -> None:  # noqa: ANN001
     """solvers/explicit_kernels.assemble_and_update, undamped and damped: three slots with
@@ -117,13 +129,8 @@ def test_the_impact_update_sums_the_slots_and_steps_by_the_formula(threads, damp
     leaves them); the step is the damped central-difference formula on the slots' sum taken in
     slot order (to 1e-14: the kernel contracts multiply-adds), the same bits on any thread
     count; the slots are cleared; the sums are NumPy's to round-off (1e-12)."""
-    rng = np.random.default_rng(7)
     ranges = np.array([[0, 2000], [1500, 3600], [3000, N]])
-    slots = np.zeros((3, N, 3))
-    for slot, (lo, hi) in enumerate(ranges):
-        slots[slot, lo:hi] = rng.normal(size=(hi - lo, 3))
-    mass = 1.0 + rng.random(N)
-    x0, v0 = rng.normal(size=(N, 3)), rng.normal(size=(N, 3))
+    slots, mass, x0, v0 = slot_problem(np.random.default_rng(7), ranges, N)
     half = 0.5 * (DT_OLD + DT_NEW)
     force = (slots[0] + slots[1]) + slots[2]
     keep, scale = 1.0 - 0.5 * damping * half, 1.0 / (1.0 + 0.5 * damping * half)
@@ -155,13 +162,8 @@ def test_the_impact_update_with_fewer_sum_blocks_than_slots(threads, n: int) -> 
     blocks than slots (a coarse ball on several threads) some runs are empty. Undamped: the step
     is v + h f / m (to 1e-14), the slots are cleared, the kinetic energy is NumPy's to 1e-12,
     and the result is the same bits on any thread count."""
-    rng = np.random.default_rng(9)
     ranges = np.array([[0, max(1, n // 2)], [n // 3, n], [0, n]])
-    slots = np.zeros((3, n, 3))
-    for slot, (lo, hi) in enumerate(ranges):
-        slots[slot, lo:hi] = rng.normal(size=(hi - lo, 3))
-    mass = 1.0 + rng.random(n)
-    x0, v0 = rng.normal(size=(n, 3)), rng.normal(size=(n, 3))
+    slots, mass, x0, v0 = slot_problem(np.random.default_rng(9), ranges, n)
     half = 0.5 * (DT_OLD + DT_NEW)
     v = v0 + ((slots[0] + slots[1]) + slots[2]) * (half / mass)[:, None]
     results = []
