@@ -10,8 +10,11 @@ its geometry, hourglass control, bulk viscosity, nodal forces and stable step (`
    F = sum_a x_a (x) dV0/dX_a / V0 (the mean-gradient form of the one-point hex, exact for a
    homogeneous deformation; Flanagan & Belytschko 1981), which on the corner-sign modes is
    F = sum_k X_k (x) G0_k / V0, the same contraction as the velocity gradient;
-2. the foam stress from F (:func:`batball.materials.foam_update.foam_stress`); objective by
-   construction, since b = F F^T rotates with the body;
+2. the foam stress from F (as :func:`batball.materials.foam_update.foam_stress` forms it);
+   objective by construction, since b = F F^T rotates with the body. The eigen-decompositions
+   of b, a third of a cell's time when done one at a time (a chain of dependent divisions and
+   square roots), run for a block of cells at once, SIMD across the cells, between a first pass
+   over the block's cells (kinematics, b) and a second (the rest): the same bits;
 3. MAT_057's rate stress (ED, BETA1), a Maxwell stress E_d int exp(-beta_1 (t - s)) D ds
    rotated by the step's Hughes-Winget rotation like MAT_006's deviator;
 4. the DAMP stress DAMP rho c L_e D with L_e = V / A_max, the time step's length (so that the
@@ -51,7 +54,17 @@ from batball.elements.hex8_kinematics import (
 )
 from batball.elements.hex8_response import element_response
 from batball.materials.foam import P_BETA1, P_DAMP, P_ED, P_MODULUS
-from batball.materials.foam_update import H_RATE_STRESS, H_STRESS, N_HISTORY, foam_stress
+from batball.materials.foam_update import (
+    EIGEN_LANES,
+    EIGEN_V,
+    H_RATE_STRESS,
+    H_STRESS,
+    N_HISTORY,
+    block_symmetric_eigen,
+    eigen_block,
+    left_cauchy_green,
+    principal_stress,
+)
 from batball.materials.viscoelastic import viscoelastic_step_factors
 
 ENERGY_INTERNAL, ENERGY_HOURGLASS, ENERGY_BULK_VISCOSITY = 0, 1, 2
@@ -125,31 +138,87 @@ def _store6(row: np.ndarray, first: int, s: tuple) -> None:
 
 
 @nb.njit(inline="always")
-def foam_element(e, mesh, material, state, outputs, controls, scratch, saved):
-    """Stress update, nodal forces and stable step of cell ``e``; returns its work [J] as
-    (internal, hourglass, bulk viscosity). Arguments as in :func:`compute_foam_forces`;
-    scratch (6, 3, 3) and saved (N_HISTORY,) are work space."""
+def _store_modes(keep: np.ndarray, first: int, x: tuple) -> None:
+    """Write the 7 modal sums (3-tuples) ``x`` to keep[first:first + 21]."""
+    for k in range(7):
+        for i in range(3):
+            keep[first + 3 * k + i] = x[k][i]
+
+
+@nb.njit(inline="always")
+def _load_modes(keep: np.ndarray, first: int) -> tuple:
+    """The 7 modal sums (3-tuples) in keep[first:first + 21]."""
+    return (
+        (keep[first], keep[first + 1], keep[first + 2]),
+        (keep[first + 3], keep[first + 4], keep[first + 5]),
+        (keep[first + 6], keep[first + 7], keep[first + 8]),
+        (keep[first + 9], keep[first + 10], keep[first + 11]),
+        (keep[first + 12], keep[first + 13], keep[first + 14]),
+        (keep[first + 15], keep[first + 16], keep[first + 17]),
+        (keep[first + 18], keep[first + 19], keep[first + 20]),
+    )
+
+
+# What the first pass over a block keeps of each cell for the second (a row of ``keep``): the
+# modal sums of x^n and v^(n-1/2), the mid-step velocity gradient L and that geometry's volume.
+K_X, K_V, K_L, K_VMID = 0, 21, 42, 51
+N_KEEP = 52
+
+
+@nb.njit(inline="always")
+def foam_kinematics(e, mesh, dt, keep, eig, lane):
+    """The first pass of cell ``e`` (module docstring, step 1): its modal sums, L and mid-step
+    volume into ``keep[lane]``, and b = F F^T into lane ``lane`` of the eigen block ``eig``."""
+    points, velocities, cells, reference = mesh
+    cell = cells[e]
+    x = cell_modal_sums(points, cell)
+    v = cell_modal_sums(velocities, cell)
+    lg, vmid = midstep_velocity_gradient(x, v, dt)
+    b = left_cauchy_green(deformation_gradient(x, cell_modal_sums(reference, cell)))
+    for k in range(9):
+        eig[k * EIGEN_LANES + lane] = b[k]
+    row = keep[lane]
+    _store_modes(row, K_X, x)
+    _store_modes(row, K_V, v)
+    for k in range(9):
+        row[K_L + k] = lg[k]
+    row[K_VMID] = vmid
+
+
+@nb.njit(inline="always")
+def foam_element(e, mesh, material, state, outputs, controls, work_space, lane):
+    """Stress update, nodal forces and stable step of cell ``e``, once :func:`foam_kinematics`
+    and the block's eigen-decomposition have run (its results in lane ``lane`` of ``work_space``);
+    returns its work [J] as (internal, hourglass, bulk viscosity). Arguments as in
+    :func:`compute_foam_forces`; ``work_space`` is (scratch (6, 3, 3), saved (N_HISTORY,), keep,
+    eig)."""
     points, velocities, cells, reference = mesh
     rho0, volume0, table = material
     history, hg_state = state
     nodal, cell_volume, cell_dt = outputs  # nodal: the slot's (n_points, 3) force array
     dt, q1, q2, hg_coefficient, fb, stiff = controls
+    scratch, saved, keep, eig = work_space
     params = table[0]
     cell = cells[e]
     row = history[e]
-    x = cell_modal_sums(points, cell)
-    v = cell_modal_sums(velocities, cell)
-    lg, vmid = midstep_velocity_gradient(x, v, dt)
+    kept = keep[lane]
+    x = _load_modes(kept, K_X)
+    v = _load_modes(kept, K_V)
+    lg = (kept[K_L], kept[K_L + 1], kept[K_L + 2], kept[K_L + 3], kept[K_L + 4],
+          kept[K_L + 5], kept[K_L + 6], kept[K_L + 7], kept[K_L + 8])  # fmt: skip
+    vmid = kept[K_VMID]
     dd = (lg[0], lg[4], lg[8], 0.5 * (lg[1] + lg[3]), 0.5 * (lg[5] + lg[7]),
           0.5 * (lg[6] + lg[2]))  # fmt: skip
     trd = lg[0] + lg[4] + lg[8]
-    # 1-2: the foam stress from F
-    _fill(scratch[4], deformation_gradient(x, cell_modal_sums(reference, cell)))
+    # 2: the foam stress from the principal stretches of b = F F^T (decomposed for the block)
+    for k in range(9):
+        scratch[0, k // 3, k % 3] = eig[k * EIGEN_LANES + lane]
+        scratch[1, k // 3, k % 3] = eig[(EIGEN_V + k) * EIGEN_LANES + lane]
     d_full = (dd[0], dd[3], dd[5], dd[3], dd[1], dd[4], dd[5], dd[4], dd[2])
     _fill(scratch[5], d_full)
     saved[:] = row
     old_row = saved
-    tangent = foam_stress(scratch[4], scratch[5], dt, row, table, scratch)
+    tangent = principal_stress(scratch[0], scratch[1], scratch[5], dt, row, table, scratch)
     # the wave speed's modulus: E_eff, or the unloading tangent where that is stiffer
     modulus = max(params[P_MODULUS], tangent + params[P_ED])
     sigma = _voigt(scratch[3])
@@ -199,19 +268,28 @@ def foam_element(e, mesh, material, state, outputs, controls, scratch, saved):
 @nb.njit
 def _foam_cells(first, end, mesh, material, state, outputs, controls):
     """Cells first..end-1 of one slot (``outputs``' nodal array is the slot's); their (internal,
-    hourglass, bulk viscosity) work [J]. A plain loop with the element inlined: called per cell
-    from the parallel loop, the element's arguments (some twenty arrays) were copied at every
-    call."""
-    scratch = np.empty((6, 3, 3))
-    saved = np.empty(N_HISTORY)
+    hourglass, bulk viscosity) work [J]. The cells go in blocks of EIGEN_LANES: a first pass
+    forms each cell's b = F F^T, the block's eigen-decompositions run at once (SIMD across its
+    cells, the same bits as one at a time), then a second pass finishes each cell in order. A
+    plain loop with the element inlined: called per cell from the parallel loop, the element's
+    arguments (some twenty arrays) were copied at every call."""
+    work_space = (np.empty((6, 3, 3)), np.empty(N_HISTORY), np.empty((EIGEN_LANES, N_KEEP)),
+                  eigen_block())  # fmt: skip
     internal = 0.0
     hourglass = 0.0
     bulk = 0.0
-    for e in range(first, end):
-        work = foam_element(e, mesh, material, state, outputs, controls, scratch, saved)
-        internal += work[0]
-        hourglass += work[1]
-        bulk += work[2]
+    for start in range(first, end, EIGEN_LANES):
+        n = min(EIGEN_LANES, end - start)
+        for lane in range(n):
+            foam_kinematics(start + lane, mesh, controls[0], work_space[2], work_space[3], lane)
+        block_symmetric_eigen(work_space[3], n)
+        for lane in range(n):
+            work = foam_element(
+                start + lane, mesh, material, state, outputs, controls, work_space, lane
+            )
+            internal += work[0]
+            hourglass += work[1]
+            bulk += work[2]
     return internal, hourglass, bulk
 
 
