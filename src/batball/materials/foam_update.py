@@ -233,7 +233,7 @@ def curve_slope(strains: np.ndarray, stresses: np.ndarray, count: int, s: float)
     return (stresses[k + 1] - stresses[k]) / (strains[k + 1] - strains[k])
 
 
-@nb.njit
+@nb.njit(inline="always")
 def principal_nominal_stresses(
     stretches: np.ndarray,
     rate: float,
@@ -290,7 +290,7 @@ def principal_nominal_stresses(
     return tangent
 
 
-@nb.njit
+@nb.njit(inline="always")
 def filtered_rate(previous: float, rate: float, cutoff: float, dt: float) -> float:
     """First-order low-pass filter of the strain rate with cut-off ``cutoff`` [1/s] (as 2 pi f)."""
     alpha = 1.0 - np.exp(-2.0 * np.pi * cutoff * dt)
@@ -340,7 +340,7 @@ def foam_stress(
     return principal_stress(b, vectors, d, dt, history, table, scratch)
 
 
-@nb.njit
+@nb.njit(inline="always")
 def principal_stress(
     b: np.ndarray,
     vectors: np.ndarray,
