@@ -95,12 +95,41 @@ def cell_modal_sums(values: np.ndarray, cell: np.ndarray) -> tuple:
     return modes_of_components(sx, sy, sz)
 
 
+#: Columns of a cell's row of :func:`foam_reference_gradients`: G0_1..G0_6 (3 each), then V0.
+N_REFERENCE = 19
+
+
+@nb.njit
+def foam_reference_gradients(cells: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Each cell's reference volume gradient on its modes, G0_k = dV0/dX0_k (k = 1..6) [m^2],
+    and its reference volume V0 [m^3] from the undeformed coordinates ``reference``
+    (n_points, 3): (n_cells, N_REFERENCE). Constant over a run; the foam kernel takes them
+    instead of forming them from the reference nodes every cycle."""
+    out = np.empty((cells.shape[0], N_REFERENCE))
+    for e in range(cells.shape[0]):
+        x0 = cell_modal_sums(reference, cells[e])
+        g1, g2, g3, g4, g5, g6, v0 = modal_volume_gradient(
+            x0[0], x0[1], x0[2], x0[3], x0[4], x0[5]
+        )
+        for k, g in enumerate((g1, g2, g3, g4, g5, g6)):
+            out[e, 3 * k : 3 * k + 3] = g
+        out[e, 18] = v0
+    return out
+
+
 @nb.njit(inline="always")
-def deformation_gradient(x: tuple, x0: tuple) -> tuple:
-    """F (9-tuple, row-major) from the modal sums of x^n and of the reference X: sum_k X_k (x)
-    G0_k / V0, G0_k = dV0/dX0_k (module docstring, step 1)."""
-    g1, g2, g3, g4, g5, g6, v0 = modal_volume_gradient(x0[0], x0[1], x0[2], x0[3], x0[4], x0[5])
-    return velocity_gradient(x, (g1, g2, g3, g4, g5, g6), v0)
+def deformation_gradient(x: tuple, g0: np.ndarray) -> tuple:
+    """F (9-tuple, row-major) from the modal sums of x^n and the cell's row ``g0`` of
+    :func:`foam_reference_gradients`: sum_k X_k (x) G0_k / V0 (module docstring, step 1)."""
+    g = (
+        (g0[0], g0[1], g0[2]),
+        (g0[3], g0[4], g0[5]),
+        (g0[6], g0[7], g0[8]),
+        (g0[9], g0[10], g0[11]),
+        (g0[12], g0[13], g0[14]),
+        (g0[15], g0[16], g0[17]),
+    )
+    return velocity_gradient(x, g, g0[18])
 
 
 @nb.njit(inline="always")
@@ -174,7 +203,7 @@ def foam_kinematics(e, mesh, dt, keep, eig, lane):
     x = cell_modal_sums(points, cell)
     v = cell_modal_sums(velocities, cell)
     lg, vmid = midstep_velocity_gradient(x, v, dt)
-    b = left_cauchy_green(deformation_gradient(x, cell_modal_sums(reference, cell)))
+    b = left_cauchy_green(deformation_gradient(x, reference[e]))
     for k in range(9):
         eig[k * EIGEN_LANES + lane] = b[k]
     row = keep[lane]
@@ -342,7 +371,8 @@ def compute_foam_forces(
     Args:
         points: (n_points, 3) x^n [m]; velocities: (n_points, 3) v^(n-1/2) [m/s];
         cells: (n_cells, 8) node ids (:func:`batball.elements.hex8.kernel_ids`);
-        reference: (n_points, 3) the undeformed coordinates [m];
+        reference: (n_cells, N_REFERENCE) the cells' reference gradients and volumes
+            (:func:`foam_reference_gradients` of the undeformed coordinates);
         dt: the step dt^(n-1/2) that led to x^n [s].
         density: the foam's initial density [kg/m^3]; volume0: (n_cells,) initial volumes [m^3].
         table: :meth:`batball.materials.foam.FoamTable.arrays` of the (one) foam material.
@@ -354,6 +384,11 @@ def compute_foam_forces(
     """
     if history.shape != (cells.shape[0], N_HISTORY):
         raise ValueError(f"history has shape {history.shape}; expected ({cells.shape[0]}, 14)")
+    if reference.shape != (cells.shape[0], N_REFERENCE):
+        raise ValueError(
+            f"reference has shape {reference.shape}; expected ({cells.shape[0]}, "
+            f"{N_REFERENCE}) from foam_reference_gradients"
+        )
     fb, stiff = hg_type >= 2, hg_type >= 4
     _foam_forces(
         (points, velocities, kernel_ids(cells), reference),
@@ -380,10 +415,10 @@ def foam_element_forces(
     hourglass: Any,
 ) -> None:
     """The solver's one call into this kernel (``ExplicitSolver.element_forces``): the foam
-    body of ``model`` (``model.foam``) with the solver's workspace ``work`` (volume0, q1, q2 and
-    the output arrays) and hourglass control."""
+    body of ``model`` (``model.foam``) with the solver's workspace ``work`` (volume0, the
+    reference gradients ``foam_reference``, q1, q2 and the output arrays) and hourglass control."""
     compute_foam_forces(
-        points, velocities, work.cells, model.mesh.points, dt,
+        points, velocities, work.cells, work.foam_reference, dt,
         float(model.densities[0]), work.volume0, model.foam.arrays(), history, hg_state,
         hourglass.type, hourglass.coefficient, work.q1, work.q2,
         work.nodal_forces, work.cell_volume, work.cell_dt, work.energy_increments,

@@ -23,6 +23,7 @@ from batball.contact.segments import SegmentContact
 from batball.contact.shell_contact import nodal_areas
 from batball.elements.hex8 import kernel_ids
 from batball.elements.hex8_block import check_precision
+from batball.elements.hex8_foam import foam_reference_gradients
 from batball.elements.shell_bt import HOURGLASS_RATIO, ShellForceState, initial_force_state
 from batball.elements.shell_bt_section import HG_THICKNESS, LayeredSection, layered_section
 from batball.elements.shell_corotational import SHELLS, CorotationalState, initial_rotations
@@ -304,8 +305,9 @@ def place_ball(
     mass = np.zeros(body.mesh.n_points)
     np.add.at(mass, body.mesh.cells.ravel(), np.repeat(body.density * volume0 / 8.0, 8))
     bv = setup.bulk_viscosity
+    cells = kernel_ids(body.mesh.cells)
     part = BallPart(
-        kernel_ids(body.mesh.cells),
+        cells,
         n_bat,
         body.constants[None, :],
         body.density,
@@ -315,7 +317,7 @@ def place_ball(
         ball_hourglass(setup.hourglass, ball).coefficient,
         *((bv.q1, bv.q2) if bv.enabled else (0.0, 0.0)),
         foam=body.foam,
-        reference=points.copy() if body.foam is not None else None,
+        reference=None if body.foam is None else foam_reference_gradients(cells, points),
     )
     return part, points, impact_x
 

@@ -84,8 +84,9 @@ class BallPart:
         material_constants: (1, 2 N + 2) kernel constants; density: [kg/m^3].
         volume0: (n_cells,) [m^3]; mass: (n_ball_points,) lumped [kg].
         hourglass_type, hourglass_coefficient, q1, q2: element controls.
-        foam: a foam ball's packed material (MAT_057/083) and reference: its nodes'
-            undeformed coordinates [m]; None for a viscoelastic ball (``material_constants``
+        foam: a foam ball's packed material (MAT_057/083) and reference: its cells' reference
+            gradients and volumes (``hex8_foam.foam_reference_gradients`` of its undeformed
+            coordinates); None for a viscoelastic ball (``material_constants``
             are then the hex kernel's; for a foam they are only the contact stand-ins).
     """
 

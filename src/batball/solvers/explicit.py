@@ -23,7 +23,12 @@ import numpy as np
 from batball.contact.rigid import N_TARGET_PARAMS, RigidCylinder, RigidPlane
 from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces, kernel_ids
 from batball.elements.hex8_block import PRECISIONS, check_precision, constants_terms, pack_history
-from batball.elements.hex8_foam import N_FOAM_HISTORY, foam_element_forces
+from batball.elements.hex8_foam import (
+    N_FOAM_HISTORY,
+    N_REFERENCE,
+    foam_element_forces,
+    foam_reference_gradients,
+)
 from batball.errors import SimulationError, SpecError
 from batball.materials.foam import FoamTable
 from batball.mesh import Mesh
@@ -292,6 +297,11 @@ class _Workspace:
         cell_mass = model.densities[model.cell_material] * self.volume0
         self.cells = kernel_ids(mesh.cells)
         self.cell_material = kernel_ids(model.cell_material)
+        self.foam_reference = (
+            foam_reference_gradients(self.cells, mesh.points)
+            if model.foam is not None
+            else np.zeros((0, N_REFERENCE))
+        )
         self.mass = lumped_masses(mesh.cells, cell_mass, mesh.n_points)
         self.cell_volume = np.zeros(mesh.n_cells)
         self.cell_dt = np.zeros(mesh.n_cells)

@@ -5,7 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from batball.elements.hex8_foam import N_FOAM_HISTORY, compute_foam_forces
+from batball.elements.hex8_foam import (
+    N_FOAM_HISTORY,
+    compute_foam_forces,
+    foam_reference_gradients,
+)
 from batball.elements.hex8_geometry import REFERENCE_CORNERS
 from batball.specs import load_ball_spec
 
@@ -21,7 +25,8 @@ def _run(points: np.ndarray, reference: np.ndarray, name: str = "foam057"):
     volume, step = np.zeros(1), np.zeros(1)
     energy = np.zeros((1, 3))
     compute_foam_forces(
-        points, np.zeros((8, 3)), cells, reference, 1e-7, DENSITY, np.array([SIDE**3]),
+        points, np.zeros((8, 3)), cells, foam_reference_gradients(cells, reference), 1e-7,
+        DENSITY, np.array([SIDE**3]),
         material.foam_table().arrays(), np.zeros((1, N_FOAM_HISTORY)), np.zeros((1, 4, 3)),
         1, 0.1, 1.5, 0.06, forces, volume, step, energy,
     )  # fmt: skip
@@ -70,6 +75,7 @@ def test_each_cell_is_the_same_whichever_cells_share_its_block() -> None:
     from batball.mesh.ball import make_ball_mesh
 
     mesh = make_ball_mesh(0.05, divisions=3)
+    cells = mesh.cells.astype(np.int32)
     rng = np.random.default_rng(5)
     points = mesh.points * (1.0 + rng.normal(0.0, 0.05, mesh.points.shape))
     velocities = rng.normal(0.0, 5.0, mesh.points.shape)
@@ -86,8 +92,9 @@ def test_each_cell_is_the_same_whichever_cells_share_its_block() -> None:
         history, hg_state = base[order].copy(), np.zeros((n, 4, 3))
         forces, volume, step = np.zeros((1,) + points.shape), np.zeros(n), np.zeros(n)
         compute_foam_forces(
-            points, velocities, mesh.cells[order], mesh.points, 1e-7, DENSITY, volume0[order],
-            table, history, hg_state, 4, 0.1, 1.5, 0.06, forces, volume, step, np.zeros((1, 3)),
+            points, velocities, cells[order], foam_reference_gradients(cells[order], mesh.points),
+            1e-7, DENSITY, volume0[order], table, history, hg_state, 4, 0.1, 1.5, 0.06, forces,
+            volume, step, np.zeros((1, 3)),
         )  # fmt: skip
         back = np.argsort(order)
         return history[back], hg_state[back], volume[back], step[back], forces[0]
