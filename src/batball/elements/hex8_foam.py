@@ -72,26 +72,34 @@ _ZERO6 = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @nb.njit(inline="always")
-def _component_sums(values: np.ndarray, cell: np.ndarray, i: int) -> tuple:
+def _node(cell: np.ndarray, a: int, i: int) -> np.uint64:
+    """Unsigned offset of component i of the cell's node a in a flat (n_points * 3) array: no
+    negative-index wraparound for Numba to add (as in ``hex8_block``)."""
+    return np.uint64(3) * np.uint64(cell[a]) + np.uint64(i)
+
+
+@nb.njit(inline="always")
+def _component_sums(flat: np.ndarray, cell: np.ndarray, i: int) -> tuple:
     """Modal sums of component i of the cell's eight node vectors (7-tuple)."""
     return modal_sums(
-        values[cell[0], i],
-        values[cell[1], i],
-        values[cell[2], i],
-        values[cell[3], i],
-        values[cell[4], i],
-        values[cell[5], i],
-        values[cell[6], i],
-        values[cell[7], i],
+        flat[_node(cell, 0, i)],
+        flat[_node(cell, 1, i)],
+        flat[_node(cell, 2, i)],
+        flat[_node(cell, 3, i)],
+        flat[_node(cell, 4, i)],
+        flat[_node(cell, 5, i)],
+        flat[_node(cell, 6, i)],
+        flat[_node(cell, 7, i)],
     )
 
 
 @nb.njit(inline="always")
-def cell_modal_sums(values: np.ndarray, cell: np.ndarray) -> tuple:
-    """Modal sums X_1..X_7 (3-tuples) of the node vectors ``values[cell]`` ((n_points, 3))."""
-    sx = _component_sums(values, cell, 0)
-    sy = _component_sums(values, cell, 1)
-    sz = _component_sums(values, cell, 2)
+def cell_modal_sums(flat: np.ndarray, cell: np.ndarray) -> tuple:
+    """Modal sums X_1..X_7 (3-tuples) of the cell's node vectors in ``flat``, a flat view
+    (n_points * 3) of an (n_points, 3) nodal array."""
+    sx = _component_sums(flat, cell, 0)
+    sy = _component_sums(flat, cell, 1)
+    sz = _component_sums(flat, cell, 2)
     return modes_of_components(sx, sy, sz)
 
 
@@ -106,11 +114,10 @@ def foam_reference_gradients(cells: np.ndarray, reference: np.ndarray) -> np.nda
     (n_points, 3): (n_cells, N_REFERENCE). Constant over a run; the foam kernel takes them
     instead of forming them from the reference nodes every cycle."""
     out = np.empty((cells.shape[0], N_REFERENCE))
+    flat = reference.reshape(-1)
     for e in range(cells.shape[0]):
-        x0 = cell_modal_sums(reference, cells[e])
-        g1, g2, g3, g4, g5, g6, v0 = modal_volume_gradient(
-            x0[0], x0[1], x0[2], x0[3], x0[4], x0[5]
-        )
+        x0 = cell_modal_sums(flat, cells[e])
+        g1, g2, g3, g4, g5, g6, v0 = modal_volume_gradient(x0[0], x0[1], x0[2], x0[3], x0[4], x0[5])
         for k, g in enumerate((g1, g2, g3, g4, g5, g6)):
             out[e, 3 * k : 3 * k + 3] = g
         out[e, 18] = v0
@@ -224,7 +231,7 @@ def foam_element(e, mesh, material, state, outputs, controls, work_space, lane):
     points, velocities, cells, reference = mesh
     rho0, volume0, table = material
     history, hg_state = state
-    nodal, cell_volume, cell_dt = outputs  # nodal: the slot's (n_points, 3) force array
+    nodal, cell_volume, cell_dt = outputs  # nodal: the slot's flat (n_points * 3) forces
     dt, q1, q2, hg_coefficient, fb, stiff = controls
     scratch, saved, keep, eig = work_space
     params = table[0]
@@ -287,7 +294,7 @@ def foam_element(e, mesh, material, state, outputs, controls, work_space, lane):
             hg_state[e, mode, i] = hg[mode][i]
     for a in range(8):
         for i in range(3):
-            nodal[cell[a], i] += forces[i][a]
+            nodal[_node(cell, a, i)] += forces[i][a]
     cell_volume[e] = vol
     damp = params[P_DAMP]
     cell_dt[e] = step / (damp + np.sqrt(1.0 + damp * damp))
@@ -296,8 +303,9 @@ def foam_element(e, mesh, material, state, outputs, controls, work_space, lane):
 
 @nb.njit
 def _foam_cells(first, end, mesh, material, state, outputs, controls):
-    """Cells first..end-1 of one slot (``outputs``' nodal array is the slot's); their (internal,
-    hourglass, bulk viscosity) work [J]. The cells go in blocks of EIGEN_LANES: a first pass
+    """Cells first..end-1 of one slot (``mesh``'s points and velocities and ``outputs``' nodal
+    array, the slot's, as flat views (n_points * 3)); their (internal, hourglass, bulk
+    viscosity) work [J]. The cells go in blocks of EIGEN_LANES: a first pass
     forms each cell's b = F F^T, the block's eigen-decompositions run at once (SIMD across its
     cells, the same bits as one at a time), then a second pass finishes each cell in order. A
     plain loop with the element inlined: called per cell from the parallel loop, the element's
@@ -336,10 +344,12 @@ def _foam_forces(mesh, material, state, outputs, energy_increments, controls):
     n_chunks = energy_increments.shape[0]
     for chunk in nb.prange(n_chunks):
         first, end = slot_cells(chunk, n_chunks, n_cells)
+        # flat views of the nodal arrays, made once a slot (reshape is a call)
         internal, hourglass, bulk = _foam_cells(
-            first, end, (points, velocities, cells, reference),
+            first, end, (points.reshape(-1), velocities.reshape(-1), cells, reference),
             (rho0, volume0, (params, rates, strains, stresses, counts, energies)),
-            (history, hg_state), (nodal_forces[chunk], cell_volume, cell_dt), controls,
+            (history, hg_state), (nodal_forces[chunk].reshape(-1), cell_volume, cell_dt),
+            controls,
         )  # fmt: skip
         energy_increments[chunk, ENERGY_INTERNAL] = internal
         energy_increments[chunk, ENERGY_HOURGLASS] = hourglass
