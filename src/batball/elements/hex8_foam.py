@@ -107,7 +107,7 @@ def cell_modal_sums(flat: np.ndarray, cell: np.ndarray) -> tuple:
 N_REFERENCE = 19
 
 
-@nb.njit
+@nb.njit(cache=True)
 def foam_reference_gradients(cells: np.ndarray, reference: np.ndarray) -> np.ndarray:
     """Each cell's reference volume gradient on its modes, G0_k = dV0/dX0_k (k = 1..6) [m^2],
     and its reference volume V0 [m^3] from the undeformed coordinates ``reference``
