@@ -300,7 +300,7 @@ def filtered_rate(previous: float, rate: float, cutoff: float, dt: float) -> flo
 @nb.njit(inline="always")
 def left_cauchy_green(f: tuple) -> tuple:
     """b = F F^T (9-tuple, row-major) of F (9-tuple, row-major), each entry summed over k in
-    order, as :func:`foam_stress` forms it."""
+    order (the foam kernel's first pass and :func:`foam_stress`)."""
     return (
         f[0] * f[0] + f[1] * f[1] + f[2] * f[2],
         f[0] * f[3] + f[1] * f[4] + f[2] * f[5],
@@ -333,9 +333,11 @@ def foam_stress(
         scratch: (4, 3, 3) work space; on return scratch[3] is sigma [Pa] (symmetric).
     """
     b, vectors = scratch[0], scratch[1]
-    for i in range(3):
-        for j in range(3):
-            b[i, j] = f[i, 0] * f[j, 0] + f[i, 1] * f[j, 1] + f[i, 2] * f[j, 2]
+    bt = left_cauchy_green(
+        (f[0, 0], f[0, 1], f[0, 2], f[1, 0], f[1, 1], f[1, 2], f[2, 0], f[2, 1], f[2, 2])
+    )
+    for k in range(9):
+        b[k // 3, k % 3] = bt[k]
     symmetric_eigen(b, vectors)
     return principal_stress(b, vectors, d, dt, history, table, scratch)
 
