@@ -11,6 +11,7 @@ from batball.elements.hex8_foam import (
     foam_reference_gradients,
 )
 from batball.elements.hex8_geometry import REFERENCE_CORNERS
+from batball.mesh.ball import make_ball_mesh
 from batball.specs import load_ball_spec
 
 SIDE = 0.01  # m
@@ -72,8 +73,6 @@ def test_each_cell_is_the_same_whichever_cells_share_its_block() -> None:
     volume and step must not depend on its block-mates. The cells of a randomly deformed coarse
     ball (189, not a whole number of blocks) run in order and reversed: every per-cell output is
     the same bits, the nodal forces the same to summation round-off (1e-12 of the largest)."""
-    from batball.mesh.ball import make_ball_mesh
-
     mesh = make_ball_mesh(0.05, divisions=3)
     cells = mesh.cells.astype(np.int32)
     rng = np.random.default_rng(5)
