@@ -53,7 +53,7 @@ from batball.elements.hex8_kinematics import (
     velocity_gradient,
 )
 from batball.elements.hex8_response import element_response
-from batball.materials.foam import P_BETA1, P_DAMP, P_ED, P_MODULUS
+from batball.materials.foam import P_BETA1, P_DAMP, P_ED, P_MODULUS, P_RATE_FILTER
 from batball.materials.foam_update import (
     EIGEN_LANES,
     EIGEN_V,
@@ -64,6 +64,7 @@ from batball.materials.foam_update import (
     eigen_block,
     left_cauchy_green,
     principal_stress,
+    rate_filter_weight,
 )
 from batball.materials.viscoelastic import viscoelastic_step_factors
 
@@ -222,12 +223,13 @@ def foam_kinematics(e, mesh, dt, keep, eig, lane):
 
 
 @nb.njit(inline="always")
-def foam_element(e, mesh, material, state, outputs, controls, work_space, lane):
+def foam_element(e, mesh, material, state, outputs, controls, work_space, lane, step_factors):
     """Stress update, nodal forces and stable step of cell ``e``, once :func:`foam_kinematics`
     and the block's eigen-decomposition have run (its results in lane ``lane`` of ``work_space``);
     returns its work [J] as (internal, hourglass, bulk viscosity). Arguments as in
     :func:`compute_foam_forces`; ``work_space`` is (scratch (6, 3, 3), saved (N_HISTORY,), keep,
-    eig)."""
+    eig); ``step_factors`` the step's (decay, scale) of the rate stress and the rate filter's
+    weight, the same for every cell."""
     points, velocities, cells, reference = mesh
     rho0, volume0, table = material
     history, hg_state = state
@@ -254,13 +256,13 @@ def foam_element(e, mesh, material, state, outputs, controls, work_space, lane):
     _fill(scratch[5], d_full)
     saved[:] = row
     old_row = saved
-    tangent = principal_stress(scratch[0], scratch[1], scratch[5], dt, row, table, scratch)
+    decay, scale, weight = step_factors
+    tangent = principal_stress(scratch[0], scratch[1], scratch[5], weight, row, table, scratch)
     # the wave speed's modulus: E_eff, or the unloading tangent where that is stiffer
     modulus = max(params[P_MODULUS], tangent + params[P_ED])
     sigma = _voigt(scratch[3])
     # 3: MAT_057's Maxwell rate stress, rotated with the step (Jaumann) and advanced
     q = cayley_rotation(0.5 * (lg[1] - lg[3]), 0.5 * (lg[5] - lg[7]), 0.5 * (lg[6] - lg[2]), dt)
-    decay, scale = viscoelastic_step_factors(0.5 * params[P_ED], 0.0, params[P_BETA1], dt)
     de = (dd[0] * dt, dd[1] * dt, dd[2] * dt, dd[3] * dt, dd[4] * dt, dd[5] * dt)
     rate_stress, _ = advance_prony_term(_load6(row, H_RATE_STRESS), q, de, decay, scale)
     # 4: the DAMP stress, with the current density and the effective wave speed
@@ -312,6 +314,9 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
     arguments (some twenty arrays) were copied at every call."""
     work_space = (np.empty((6, 3, 3)), np.empty(N_HISTORY), np.empty((EIGEN_LANES, N_KEEP)),
                   eigen_block())  # fmt: skip
+    params, dt = material[2][0], controls[0]
+    decay, scale = viscoelastic_step_factors(0.5 * params[P_ED], 0.0, params[P_BETA1], dt)
+    step_factors = (decay, scale, rate_filter_weight(params[P_RATE_FILTER], dt))
     internal = 0.0
     hourglass = 0.0
     bulk = 0.0
@@ -322,7 +327,15 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
         block_symmetric_eigen(work_space[3], n)
         for lane in range(n):
             work = foam_element(
-                start + lane, mesh, material, state, outputs, controls, work_space, lane
+                start + lane,
+                mesh,
+                material,
+                state,
+                outputs,
+                controls,
+                work_space,
+                lane,
+                step_factors,
             )
             internal += work[0]
             hourglass += work[1]

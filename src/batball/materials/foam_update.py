@@ -291,10 +291,16 @@ def principal_nominal_stresses(
 
 
 @nb.njit(inline="always")
-def filtered_rate(previous: float, rate: float, cutoff: float, dt: float) -> float:
-    """First-order low-pass filter of the strain rate with cut-off ``cutoff`` [1/s] (as 2 pi f)."""
-    alpha = 1.0 - np.exp(-2.0 * np.pi * cutoff * dt)
-    return previous + alpha * (rate - previous)
+def rate_filter_weight(cutoff: float, dt: float) -> float:
+    """The weight of a step's new rate in :func:`filtered_rate`: 1 - exp(-cutoff dt), cut-off
+    ``cutoff`` [1/s] (as 2 pi f); the same for every point of a material in a step."""
+    return 1.0 - np.exp(-2.0 * np.pi * cutoff * dt)
+
+
+@nb.njit(inline="always")
+def filtered_rate(previous: float, rate: float, weight: float) -> float:
+    """First-order low-pass filter of the strain rate (``weight``: :func:`rate_filter_weight`)."""
+    return previous + weight * (rate - previous)
 
 
 @nb.njit(inline="always")
@@ -339,7 +345,8 @@ def foam_stress(
     for k in range(9):
         b[k // 3, k % 3] = bt[k]
     symmetric_eigen(b, vectors)
-    return principal_stress(b, vectors, d, dt, history, table, scratch)
+    weight = rate_filter_weight(table[0][P_RATE_FILTER], dt)
+    return principal_stress(b, vectors, d, weight, history, table, scratch)
 
 
 @nb.njit(inline="always")
@@ -347,14 +354,15 @@ def principal_stress(
     b: np.ndarray,
     vectors: np.ndarray,
     d: np.ndarray,
-    dt: float,
+    weight: float,
     history: np.ndarray,
     table: tuple[np.ndarray, ...],
     scratch: np.ndarray,
 ) -> float:
     """:func:`foam_stress` once b = F F^T is decomposed: ``b``'s diagonal holds its eigenvalues
-    (the squared principal stretches) and ``vectors``' columns its unit eigenvectors. Writes
-    sigma [Pa] into ``scratch[3]`` and returns the largest principal Cauchy tangent [Pa]."""
+    (the squared principal stretches) and ``vectors``' columns its unit eigenvectors; ``weight``
+    is the step's :func:`rate_filter_weight`. Writes sigma [Pa] into ``scratch[3]`` and returns
+    the largest principal Cauchy tangent [Pa]."""
     sigma = scratch[3]
     stretches = scratch[2, 0]
     for i in range(3):
@@ -365,8 +373,7 @@ def principal_stress(
     for i in range(3):
         for j in range(3):
             rate -= vectors[i, m] * d[i, j] * vectors[j, m]
-    params = table[0]
-    history[H_RATE] = filtered_rate(history[H_RATE], max(rate, 0.0), params[P_RATE_FILTER], dt)
+    history[H_RATE] = filtered_rate(history[H_RATE], max(rate, 0.0), weight)
     tau = scratch[2, 1]
     tangent = principal_nominal_stresses(stretches, history[H_RATE], history, table, tau)
     jacobian = stretches[0] * stretches[1] * stretches[2]
