@@ -106,6 +106,7 @@ def cell_modal_sums(flat: np.ndarray, cell: np.ndarray) -> tuple:
 
 #: Columns of a cell's row of :func:`foam_reference_gradients`: G0_1..G0_6 (3 each), then V0.
 N_REFERENCE = 19
+REFERENCE_VOLUME = 18
 
 
 @nb.njit(cache=True)
@@ -121,23 +122,23 @@ def foam_reference_gradients(cells: np.ndarray, reference: np.ndarray) -> np.nda
         g1, g2, g3, g4, g5, g6, v0 = modal_volume_gradient(x0[0], x0[1], x0[2], x0[3], x0[4], x0[5])
         for k, g in enumerate((g1, g2, g3, g4, g5, g6)):
             out[e, 3 * k : 3 * k + 3] = g
-        out[e, 18] = v0
+        out[e, REFERENCE_VOLUME] = v0
     return out
+
+
+@nb.njit(inline="always")
+def _vector(row: np.ndarray, first: int) -> tuple:
+    """The 3-tuple row[first:first + 3]."""
+    return (row[first], row[first + 1], row[first + 2])
 
 
 @nb.njit(inline="always")
 def deformation_gradient(x: tuple, g0: np.ndarray) -> tuple:
     """F (9-tuple, row-major) from the modal sums of x^n and the cell's row ``g0`` of
     :func:`foam_reference_gradients`: sum_k X_k (x) G0_k / V0 (module docstring, step 1)."""
-    g = (
-        (g0[0], g0[1], g0[2]),
-        (g0[3], g0[4], g0[5]),
-        (g0[6], g0[7], g0[8]),
-        (g0[9], g0[10], g0[11]),
-        (g0[12], g0[13], g0[14]),
-        (g0[15], g0[16], g0[17]),
-    )
-    return velocity_gradient(x, g, g0[18])
+    g = (_vector(g0, 0), _vector(g0, 3), _vector(g0, 6), _vector(g0, 9), _vector(g0, 12),
+         _vector(g0, 15))  # fmt: skip
+    return velocity_gradient(x, g, g0[REFERENCE_VOLUME])
 
 
 @nb.njit(inline="always")
@@ -185,15 +186,9 @@ def _store_modes(keep: np.ndarray, first: int, x: tuple) -> None:
 @nb.njit(inline="always")
 def _load_modes(keep: np.ndarray, first: int) -> tuple:
     """The 7 modal sums (3-tuples) in keep[first:first + 21]."""
-    return (
-        (keep[first], keep[first + 1], keep[first + 2]),
-        (keep[first + 3], keep[first + 4], keep[first + 5]),
-        (keep[first + 6], keep[first + 7], keep[first + 8]),
-        (keep[first + 9], keep[first + 10], keep[first + 11]),
-        (keep[first + 12], keep[first + 13], keep[first + 14]),
-        (keep[first + 15], keep[first + 16], keep[first + 17]),
-        (keep[first + 18], keep[first + 19], keep[first + 20]),
-    )
+    return (_vector(keep, first), _vector(keep, first + 3), _vector(keep, first + 6),
+            _vector(keep, first + 9), _vector(keep, first + 12), _vector(keep, first + 15),
+            _vector(keep, first + 18))  # fmt: skip
 
 
 # What the first pass over a block keeps of each cell for the second (a row of ``keep``): the
@@ -230,7 +225,7 @@ def foam_element(e, mesh, material, state, outputs, controls, work_space, lane, 
     :func:`compute_foam_forces`; ``work_space`` is (scratch (6, 3, 3), saved (N_HISTORY,), keep,
     eig); ``step_factors`` the step's (decay, scale) of the rate stress and the rate filter's
     weight, the same for every cell."""
-    points, velocities, cells, reference = mesh
+    cells = mesh[2]
     rho0, volume0, table = material
     history, hg_state = state
     nodal, cell_volume, cell_dt = outputs  # nodal: the slot's flat (n_points * 3) forces
