@@ -21,8 +21,16 @@ from numba.extending import intrinsic
 
 from batball.numerics import FASTMATH
 
-_MANTISSA = 0x000FFFFFFFFFFFFF
-_ONE_BITS = 0x3FF0000000000000  # bits of 1.0
+_MANTISSA = np.uint64(0x000FFFFFFFFFFFFF)
+_ONE_BITS = np.uint64(0x3FF0000000000000)  # bits of 1.0
+_LOW_32 = np.uint64(0xFFFFFFFF)
+_SHIFT_32, _SHIFT_52 = np.uint64(32), np.uint64(52)
+_TWO_52_BITS = np.uint64(0x4330000000000000)  # bits of 2^52
+_TWO_84_BITS = np.uint64(0x4530000000000000)  # bits of 2^84
+_IMPLICIT_ONE = np.uint64(0x0010000000000000)  # the hidden bit of a normal float64
+_BIAS_52 = np.uint64(1075)  # exponent bias + 52: the biased exponent of an integer's unit 1
+_TWO_52 = 4503599627370496.0
+_TWO_84_PLUS_52 = 19342813118337666422669312.0  # 2^84 + 2^52, exact
 _SMALLEST_NORMAL = 2.2250738585072014e-308
 _TWO_54 = 18014398509481984.0  # scales subnormals up to normal numbers
 _SQRT2 = 1.4142135623730951
@@ -34,36 +42,36 @@ _LG3, _LG4 = 2.857142874366239149e-01, 2.222219843214978396e-01
 _LG5, _LG6 = 1.818357216161805012e-01, 1.531383769920937332e-01
 _LG7 = 1.479819860511658591e-01
 # bits(m^(-1/3)) ~ this - bits(m) / 3 (a first guess within 3.5 %)
-_INVERSE_CBRT_MAGIC = 0x553EF0FE047D3C00
+_INVERSE_CBRT_MAGIC = np.uint64(0x553EF0FE047D3C00)
 
 
 @intrinsic
 def _float_bits(typingctx, x):
-    """The IEEE-754 bits of a float64, as an int64."""
+    """The IEEE-754 bits of a float64, as a uint64."""
     if x != types.float64:
         return None
 
     def codegen(context, builder, signature, args):
         return builder.bitcast(args[0], ir.IntType(64))
 
-    return types.int64(types.float64), codegen
+    return types.uint64(types.float64), codegen
 
 
 @intrinsic
 def _bits_float(typingctx, bits):
-    """The float64 with the given IEEE-754 bits (an int64)."""
-    if bits != types.int64:
+    """The float64 with the given IEEE-754 bits (a uint64)."""
+    if bits != types.uint64:
         return None
 
     def codegen(context, builder, signature, args):
         return builder.bitcast(args[0], ir.DoubleType())
 
-    return types.float64(types.int64), codegen
+    return types.float64(types.uint64), codegen
 
 
 #: Typed views of the intrinsics for mypy (the same objects for Numba).
-float_bits = cast("Callable[[float], int]", _float_bits)
-bits_float = cast("Callable[[int], float]", _bits_float)
+float_bits = cast("Callable[[float], np.uint64]", _float_bits)
+bits_float = cast("Callable[[np.uint64], float]", _bits_float)
 
 
 @intrinsic
@@ -103,6 +111,41 @@ def log(x: float) -> float:
     return like(x, log64(float(x)))
 
 
+# The exponent and the cube-root guess are integer work on the float's bits. Written as 64-bit
+# shifts, masks, adds and the bits of exact float sums, it vectorises on AVX2 too, which has no
+# vector conversion between 64-bit integers and doubles and no 64-bit arithmetic shift (LLVM
+# did those lane by lane: the cube root of a float32 array took 6.3 ns a value on an AVX2 EPYC,
+# 4.3 now). Each helper gives exactly what the conversion it replaces gives.
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _small_float(n: np.uint64) -> float:
+    """float(n) for an integer 0 <= n < 2^52 (exact): 2^52 + n has n as its mantissa bits."""
+    return bits_float(n | _TWO_52_BITS) - _TWO_52
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _small_uint(d: float) -> np.uint64:
+    """The integer d, for an integer-valued float 0 <= d < 2^52 (exact)."""
+    return float_bits(d + _TWO_52) & _MANTISSA
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _uint_float(n: np.uint64) -> float:
+    """float(n) for an unsigned 64-bit n, rounded to nearest once, as a conversion rounds:
+    (2^84 + 2^32 high) - (2^84 + 2^52) is exact, and adding 2^52 + low rounds."""
+    high = bits_float((n >> _SHIFT_32) | _TWO_84_BITS) - _TWO_84_PLUS_52
+    return high + bits_float((n & _LOW_32) | _TWO_52_BITS)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _float_uint(d: float) -> np.uint64:
+    """The integer d, for an integer-valued float 2^52 <= d < 2^64 (exact, as a truncating
+    conversion): its significand shifted left by its exponent less 52."""
+    bits = float_bits(d)
+    return ((bits & _MANTISSA) | _IMPLICIT_ONE) << ((bits >> _SHIFT_52) - _BIAS_52)
+
+
 @nb.njit(inline="always", fastmath=FASTMATH)
 def log64(x: float) -> float:
     """Natural logarithm after fdlibm's e_log.c, within 2 ulp under fast-math; vectorisable.
@@ -111,11 +154,11 @@ def log64(x: float) -> float:
     """
     tiny = x < _SMALLEST_NORMAL
     bits = float_bits(x * _TWO_54 if tiny else x)
-    k = (bits >> 52) - (1023 + 54 if tiny else 1023)
     m = bits_float((bits & _MANTISSA) | _ONE_BITS)  # [1, 2)
     high = m > _SQRT2
     m = 0.5 * m if high else m
-    dk = float(k + 1 if high else k)
+    # k: the biased exponent less the bias (and 54 for a scaled subnormal), + 1 where m was halved
+    dk = _small_float(bits >> _SHIFT_52) - (1077.0 if tiny else 1023.0) + (1.0 if high else 0.0)
     f = m - 1.0
     s = f / (2.0 + f)
     z = s * s
@@ -134,7 +177,7 @@ def _cbrt_reduced(m: float) -> float:
     r = m^(-1/3) from a guess from the bits (within 3.5 %) and four Newton steps
     r (4 - m r^3) / 3 (the error e becomes 2 e^2), then y = m r^2 polished by one Newton step.
     """
-    r = bits_float(_INVERSE_CBRT_MAGIC - int(float(float_bits(m)) * (1.0 / 3.0)))
+    r = bits_float(_INVERSE_CBRT_MAGIC - _float_uint(_uint_float(float_bits(m)) * (1.0 / 3.0)))
     r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
     r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
     r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
@@ -161,10 +204,11 @@ def cbrt64(x: float) -> float:
     a = abs(x)
     tiny = a < _SMALLEST_NORMAL
     bits = float_bits(a * _TWO_54 if tiny else a)
-    e = (bits >> 52) - 1023
-    q = int(np.floor((float(e) + 0.5) * (1.0 / 3.0)))
-    m = bits_float((bits & _MANTISSA) | ((1023 + e - 3 * q) << 52))
-    scale = bits_float((q + (1023 - 18 if tiny else 1023)) << 52)  # 2^q, (2^54)^(1/3) = 2^18
+    e = _small_float(bits >> _SHIFT_52) - 1023.0
+    q = np.floor((e + 0.5) * (1.0 / 3.0))
+    m = bits_float((bits & _MANTISSA) | (_small_uint(1023.0 + e - 3.0 * q) << _SHIFT_52))
+    # 2^q, (2^54)^(1/3) = 2^18
+    scale = bits_float(_small_uint(q + (1005.0 if tiny else 1023.0)) << _SHIFT_52)
     y = _cbrt_reduced(m) * scale
     y = y if a > 0.0 and a < np.inf else a  # 0, inf and NaN
     return y if x >= 0.0 else (-y if x < 0.0 else x)

@@ -19,7 +19,14 @@ import numba as nb
 import numpy as np
 import pytest
 
-from batball.elements.vector_math import cbrt, log
+from batball.elements.vector_math import (
+    _float_uint,
+    _small_float,
+    _small_uint,
+    _uint_float,
+    cbrt,
+    log,
+)
 from batball.numerics import FASTMATH
 
 
@@ -37,6 +44,45 @@ def cbrt_all(x: np.ndarray) -> np.ndarray:
     for i in range(x.shape[0]):
         out[i] = cbrt(x[i])
     return out
+
+
+@nb.njit(fastmath=FASTMATH, error_model="numpy")
+def integer_helpers(n: np.ndarray, small: np.ndarray, big: np.ndarray) -> tuple:
+    """The vector-friendly conversions on arrays: float(n), float(small), int(small as a float),
+    int(big) for integer-valued floats big >= 2^52."""
+    a, b = np.empty(n.shape[0]), np.empty(small.shape[0])
+    c = np.empty(small.shape[0], dtype=np.uint64)
+    d = np.empty(big.shape[0], dtype=np.uint64)
+    for i in range(n.shape[0]):
+        a[i] = _uint_float(n[i])
+    for i in range(small.shape[0]):
+        b[i] = _small_float(small[i])
+        c[i] = _small_uint(float(small[i]))
+    for i in range(big.shape[0]):
+        d[i] = _float_uint(big[i])
+    return a, b, c, d
+
+
+def test_the_integer_helpers_convert_exactly_as_python_does() -> None:
+    """The bit-level conversions behind ln and the cube root against Python's own int/float
+    conversions (round to nearest, ties to even; truncation of an integer-valued float)."""
+    rng = np.random.default_rng(11)
+    n = np.concatenate([
+        rng.integers(0, 2**64 - 1, 20_000, dtype=np.uint64, endpoint=True),
+        rng.integers(0, 2**53, 5_000, dtype=np.uint64),
+        # ties, which round to even: 2^53 + odd (unit 2 above 2^53), 2^63 + odd 2^10 (unit 2^11)
+        np.array([2**53 + k for k in range(-9, 10)], dtype=np.uint64),
+        np.array([2**63 + k * 2**10 for k in range(-7, 8)], dtype=np.uint64),
+        np.array([0, 1, 2**32 - 1, 2**32, 2**53 + 1, 2**63, 2**64 - 1], dtype=np.uint64),
+    ])  # fmt: skip
+    small = np.concatenate([rng.integers(0, 2**52, 5_000, dtype=np.uint64),
+                            np.array([0, 1, 2**52 - 1], dtype=np.uint64)])  # fmt: skip
+    big = np.array([float(k) for k in n if k >= 2**52 and float(k) < 2.0**64])
+    a, b, c, d = integer_helpers(n, small, big)
+    np.testing.assert_array_equal(a, [float(int(k)) for k in n])
+    np.testing.assert_array_equal(b, [float(int(k)) for k in small])
+    np.testing.assert_array_equal(c, small)
+    np.testing.assert_array_equal(d, np.array([int(v) for v in big], dtype=np.uint64))
 
 
 def samples() -> np.ndarray:
