@@ -62,6 +62,19 @@ def prefer_wide_vectors() -> str | None:
 WIDE_VECTOR_FEATURES = prefer_wide_vectors()
 
 
+def wide_vectors() -> bool:
+    """Whether the kernels are compiled for 512-bit vectors: Numba's CPU features (set by
+    :func:`prefer_wide_vectors`, or by the user in ``NUMBA_CPU_FEATURES``) enable AVX-512F and
+    turn off LLVM's preference for 256-bit vectors.
+
+    A function of the feature string alone, which is also part of the key of Numba's on-disk
+    cache: a layout chosen from it (``hex8_block.BLOCK``) is the same in every process that
+    shares a cached kernel, worker processes included (they inherit the string).
+    """
+    features = os.environ.get("NUMBA_CPU_FEATURES", "").split(",")
+    return "+avx512f" in features and "-prefer-256-bit" in features
+
+
 @contextmanager
 def threads_for_work(work: int, *, parallel_min_work: int) -> Iterator[None]:
     """Run the enclosed Numba parallel kernels on one thread when ``work`` (a count of inner
