@@ -136,10 +136,10 @@ def reference_element(x, v, dt, mat, v0, s_inf, h, p_old, hg_old, hg_type, qh, q
 MATERIALS = [Material(5e8, 1.5e8, 5e6, 7.5e4, 1100.0), Material(2e9, 4e8, 1e8, 2e4, 900.0)]
 
 
-def distorted_model(seed: int) -> dict:
-    """A 3 x 4 x 5 box of 1 cm hexes with shaken nodes, two materials and one inverted cell."""
+def distorted_model(seed: int, n: tuple[int, int, int] = (3, 4, 5)) -> dict:
+    """An n[0] x n[1] x n[2] box of 1 cm hexes with shaken nodes, two materials and one inverted
+    cell."""
     rng = np.random.default_rng(seed)
-    n = (3, 4, 5)
     grid = np.stack(np.meshgrid(*[np.arange(k + 1.0) for k in n], indexing="ij"), -1)
     ids = np.arange(grid[..., 0].size).reshape(grid.shape[:3])
     i, j, k = (a.ravel() for a in np.meshgrid(*[np.arange(m) for m in n], indexing="ij"))
@@ -216,7 +216,9 @@ def assert_close(actual: np.ndarray, expected: np.ndarray, rel: float = 1e-10) -
 
 @pytest.mark.parametrize("hg_type", [1, 2, 3, 4, 5])
 def test_kernel_matches_the_per_element_reference(hg_type: int) -> None:
-    model = distorted_model(seed=hg_type)
+    # 264 cells: several blocks of the kernel's layout whatever BLOCK is (16 or 64), the last
+    # one partial, split over three slots
+    model = distorted_model(seed=hg_type, n=(4, 6, 11))
     got = run_kernel(model, hg_type, qh=0.1, q1=1.5, q2=0.06, n_chunks=3)
     want = run_reference(model, 4 if hg_type == 5 else (2 if hg_type == 3 else hg_type), 0.1,
                          1.5, 0.06)  # fmt: skip
@@ -274,7 +276,9 @@ def test_inverted_element_gets_no_forces_step_or_work() -> None:
 
 
 def test_energies_do_not_depend_on_the_number_of_chunks() -> None:
-    model = distorted_model(seed=4)
+    # 264 cells: more than four blocks of the widest block layout (64), the last one partial,
+    # so that the seven slots hold different runs of whole blocks whatever BLOCK is
+    model = distorted_model(seed=4, n=(4, 6, 11))
     one = run_kernel(model, 1, qh=0.1, q1=1.5, q2=0.06, n_chunks=1)
     many = run_kernel(model, 1, qh=0.1, q1=1.5, q2=0.06, n_chunks=7)
     np.testing.assert_allclose(many["energy"], one["energy"], rtol=1e-12)
