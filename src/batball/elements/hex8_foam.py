@@ -127,18 +127,11 @@ def foam_reference_gradients(cells: np.ndarray, reference: np.ndarray) -> np.nda
 
 
 @nb.njit(inline="always")
-def _vector(row: np.ndarray, first: int) -> tuple:
-    """The 3-tuple row[first:first + 3]."""
-    return (row[first], row[first + 1], row[first + 2])
-
-
-@nb.njit(inline="always")
-def deformation_gradient(x: tuple, g0: np.ndarray) -> tuple:
-    """F (9-tuple, row-major) from the modal sums of x^n and the cell's row ``g0`` of
-    :func:`foam_reference_gradients`: sum_k X_k (x) G0_k / V0 (module docstring, step 1)."""
-    g = (_vector(g0, 0), _vector(g0, 3), _vector(g0, 6), _vector(g0, 9), _vector(g0, 12),
-         _vector(g0, 15))  # fmt: skip
-    return velocity_gradient(x, g, g0[REFERENCE_VOLUME])
+def deformation_gradient(x: tuple, g0: tuple, v0: float) -> tuple:
+    """F (9-tuple, row-major) from the modal sums of x^n, the cell's reference gradients G0_k
+    (six 3-tuples) and its reference volume V0, from :func:`foam_reference_gradients`:
+    sum_k X_k (x) G0_k / V0 (module docstring, step 1)."""
+    return velocity_gradient(x, g0, v0)
 
 
 @nb.njit(inline="always")
@@ -176,45 +169,118 @@ def _store6(row: np.ndarray, first: int, s: tuple) -> None:
 
 
 @nb.njit(inline="always")
-def _store_modes(keep: np.ndarray, first: int, x: tuple) -> None:
-    """Write the 7 modal sums (3-tuples) ``x`` to keep[first:first + 21]."""
-    for k in range(7):
-        for i in range(3):
-            keep[first + 3 * k + i] = x[k][i]
+def _at(row: int, lane: int) -> int:
+    """Lane ``lane`` of row ``row`` of a block array (rows EIGEN_LANES wide, as ``eig``)."""
+    return row * EIGEN_LANES + lane
 
 
 @nb.njit(inline="always")
-def _load_modes(keep: np.ndarray, first: int) -> tuple:
-    """The 7 modal sums (3-tuples) in keep[first:first + 21]."""
-    return (_vector(keep, first), _vector(keep, first + 3), _vector(keep, first + 6),
-            _vector(keep, first + 9), _vector(keep, first + 12), _vector(keep, first + 15),
-            _vector(keep, first + 18))  # fmt: skip
+def _lane_vector(block: np.ndarray, row: int, lane: int) -> tuple:
+    """The 3-tuple in rows row..row+2 of lane ``lane`` of a block array."""
+    return (block[_at(row, lane)], block[_at(row + 1, lane)], block[_at(row + 2, lane)])
 
 
-# What the first pass over a block keeps of each cell for the second (a row of ``keep``): the
-# modal sums of x^n and v^(n-1/2), the mid-step velocity gradient L and that geometry's volume.
+@nb.njit(inline="always")
+def _store_lane_vector(block: np.ndarray, row: int, lane: int, x: tuple) -> None:
+    """Write the 3-tuple x to rows row..row+2 of lane ``lane`` of a block array."""
+    block[_at(row, lane)] = x[0]
+    block[_at(row + 1, lane)] = x[1]
+    block[_at(row + 2, lane)] = x[2]
+
+
+@nb.njit(inline="always")
+def _store_modes(keep: np.ndarray, first: int, lane: int, x: tuple) -> None:
+    """Write the 7 modal sums (3-tuples) ``x`` to rows first..first + 20 of ``keep``'s lane."""
+    _store_lane_vector(keep, first, lane, x[0])
+    _store_lane_vector(keep, first + 3, lane, x[1])
+    _store_lane_vector(keep, first + 6, lane, x[2])
+    _store_lane_vector(keep, first + 9, lane, x[3])
+    _store_lane_vector(keep, first + 12, lane, x[4])
+    _store_lane_vector(keep, first + 15, lane, x[5])
+    _store_lane_vector(keep, first + 18, lane, x[6])
+
+
+@nb.njit(inline="always")
+def _load_modes(keep: np.ndarray, first: int, lane: int) -> tuple:
+    """The 7 modal sums (3-tuples) in rows first..first + 20 of ``keep``'s lane."""
+    return (_lane_vector(keep, first, lane), _lane_vector(keep, first + 3, lane),
+            _lane_vector(keep, first + 6, lane), _lane_vector(keep, first + 9, lane),
+            _lane_vector(keep, first + 12, lane), _lane_vector(keep, first + 15, lane),
+            _lane_vector(keep, first + 18, lane))  # fmt: skip
+
+
+# What the first pass over a block keeps of each cell for the second (rows of ``keep``, each
+# EIGEN_LANES wide): the modal sums of x^n and v^(n-1/2), the mid-step velocity gradient L and
+# that geometry's volume.
 K_X, K_V, K_L, K_VMID = 0, 21, 42, 51
 N_KEEP = 52
 
+# What the first pass gathers of a block's cells (rows of ``gathered``, each EIGEN_LANES wide):
+# component i of node a of x^n at row G_X + 8 i + a, of v^(n-1/2) at G_V + 8 i + a, then the
+# cell's row of foam_reference_gradients.
+G_X, G_V, G_REF = 0, 24, 48
+N_GATHER = G_REF + N_REFERENCE
+
 
 @nb.njit(inline="always")
-def foam_kinematics(e, mesh, dt, keep, eig, lane):
-    """The first pass of cell ``e`` (module docstring, step 1): its modal sums, L and mid-step
-    volume into ``keep[lane]``, and b = F F^T into lane ``lane`` of the eigen block ``eig``."""
+def _gathered_sums(gathered: np.ndarray, first: int, lane: int) -> tuple:
+    """Modal sums (7-tuple) of the eight node values in rows first..first + 7 of a lane."""
+    return modal_sums(
+        gathered[_at(first, lane)],
+        gathered[_at(first + 1, lane)],
+        gathered[_at(first + 2, lane)],
+        gathered[_at(first + 3, lane)],
+        gathered[_at(first + 4, lane)],
+        gathered[_at(first + 5, lane)],
+        gathered[_at(first + 6, lane)],
+        gathered[_at(first + 7, lane)],
+    )
+
+
+@nb.njit(error_model="numpy")
+def foam_kinematics(start, n, mesh, dt, keep, eig, gathered):
+    """The first pass over cells start..start+n-1 (module docstring, step 1), n <= EIGEN_LANES:
+    their modal sums, L and mid-step volume into ``keep``, and b = F F^T into the eigen block
+    ``eig``, cell start + lane in lane ``lane``.
+
+    The nodes and reference gradients are gathered into ``gathered`` (rows EIGEN_LANES wide),
+    then the arithmetic runs as one loop over the lanes, which LLVM vectorises: the same
+    operations in the same order as for one cell (no fast-math, so no contraction either way),
+    the same bits. NumPy's error model: a division by a zero volume gives inf, not an exception,
+    and the cycle's checks stop the run on it."""
     points, velocities, cells, reference = mesh
-    cell = cells[e]
-    x = cell_modal_sums(points, cell)
-    v = cell_modal_sums(velocities, cell)
-    lg, vmid = midstep_velocity_gradient(x, v, dt)
-    b = left_cauchy_green(deformation_gradient(x, reference[e]))
-    for k in range(9):
-        eig[k * EIGEN_LANES + lane] = b[k]
-    row = keep[lane]
-    _store_modes(row, K_X, x)
-    _store_modes(row, K_V, v)
-    for k in range(9):
-        row[K_L + k] = lg[k]
-    row[K_VMID] = vmid
+    for lane in range(n):
+        cell = cells[start + lane]
+        for i in range(3):
+            for a in range(8):
+                gathered[_at(G_X + 8 * i + a, lane)] = points[_node(cell, a, i)]
+                gathered[_at(G_V + 8 * i + a, lane)] = velocities[_node(cell, a, i)]
+        for k in range(N_REFERENCE):
+            gathered[_at(G_REF + k, lane)] = reference[start + lane, k]
+    for lane in range(n):
+        x = modes_of_components(_gathered_sums(gathered, G_X, lane),
+                                _gathered_sums(gathered, G_X + 8, lane),
+                                _gathered_sums(gathered, G_X + 16, lane))  # fmt: skip
+        v = modes_of_components(_gathered_sums(gathered, G_V, lane),
+                                _gathered_sums(gathered, G_V + 8, lane),
+                                _gathered_sums(gathered, G_V + 16, lane))  # fmt: skip
+        lg, vmid = midstep_velocity_gradient(x, v, dt)
+        g0 = (_lane_vector(gathered, G_REF, lane), _lane_vector(gathered, G_REF + 3, lane),
+              _lane_vector(gathered, G_REF + 6, lane), _lane_vector(gathered, G_REF + 9, lane),
+              _lane_vector(gathered, G_REF + 12, lane),
+              _lane_vector(gathered, G_REF + 15, lane))  # fmt: skip
+        b = left_cauchy_green(
+            deformation_gradient(x, g0, gathered[_at(G_REF + REFERENCE_VOLUME, lane)])
+        )
+        _store_lane_vector(eig, 0, lane, (b[0], b[1], b[2]))
+        _store_lane_vector(eig, 3, lane, (b[3], b[4], b[5]))
+        _store_lane_vector(eig, 6, lane, (b[6], b[7], b[8]))
+        _store_modes(keep, K_X, lane, x)
+        _store_modes(keep, K_V, lane, v)
+        _store_lane_vector(keep, K_L, lane, (lg[0], lg[1], lg[2]))
+        _store_lane_vector(keep, K_L + 3, lane, (lg[3], lg[4], lg[5]))
+        _store_lane_vector(keep, K_L + 6, lane, (lg[6], lg[7], lg[8]))
+        keep[_at(K_VMID, lane)] = vmid
 
 
 @nb.njit(inline="always")
@@ -223,23 +289,25 @@ def foam_element(e, mesh, material, state, outputs, controls, work_space, lane, 
     and the block's eigen-decomposition have run (its results in lane ``lane`` of ``work_space``);
     returns its work [J] as (internal, hourglass, bulk viscosity). Arguments as in
     :func:`compute_foam_forces`; ``work_space`` is (scratch (6, 3, 3), saved (N_HISTORY,), keep,
-    eig); ``step_factors`` the step's (decay, scale) of the rate stress and the rate filter's
-    weight, the same for every cell."""
+    eig, gathered); ``step_factors`` the step's (decay, scale) of the rate stress and the rate
+    filter's weight, the same for every cell."""
     cells = mesh[2]
     rho0, volume0, table = material
     history, hg_state = state
     nodal, cell_volume, cell_dt = outputs  # nodal: the slot's flat (n_points * 3) forces
     dt, q1, q2, hg_coefficient, fb, stiff = controls
-    scratch, saved, keep, eig = work_space
+    scratch, saved, keep, eig = work_space[0], work_space[1], work_space[2], work_space[3]
     params = table[0]
     cell = cells[e]
     row = history[e]
-    kept = keep[lane]
-    x = _load_modes(kept, K_X)
-    v = _load_modes(kept, K_V)
-    lg = (kept[K_L], kept[K_L + 1], kept[K_L + 2], kept[K_L + 3], kept[K_L + 4],
-          kept[K_L + 5], kept[K_L + 6], kept[K_L + 7], kept[K_L + 8])  # fmt: skip
-    vmid = kept[K_VMID]
+    x = _load_modes(keep, K_X, lane)
+    v = _load_modes(keep, K_V, lane)
+    lg = (
+        _lane_vector(keep, K_L, lane)
+        + _lane_vector(keep, K_L + 3, lane)
+        + _lane_vector(keep, K_L + 6, lane)
+    )
+    vmid = keep[_at(K_VMID, lane)]
     dd = (lg[0], lg[4], lg[8], 0.5 * (lg[1] + lg[3]), 0.5 * (lg[5] + lg[7]),
           0.5 * (lg[6] + lg[2]))  # fmt: skip
     trd = lg[0] + lg[4] + lg[8]
@@ -307,8 +375,8 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
     cells, the same bits as one at a time), then a second pass finishes each cell in order. A
     plain loop with the element inlined: called per cell from the parallel loop, the element's
     arguments (some twenty arrays) were copied at every call."""
-    work_space = (np.empty((6, 3, 3)), np.empty(N_HISTORY), np.empty((EIGEN_LANES, N_KEEP)),
-                  eigen_block())  # fmt: skip
+    work_space = (np.empty((6, 3, 3)), np.empty(N_HISTORY), np.empty(N_KEEP * EIGEN_LANES),
+                  eigen_block(), np.empty(N_GATHER * EIGEN_LANES))  # fmt: skip
     params, dt = material[2][0], controls[0]
     decay, scale = viscoelastic_step_factors(0.5 * params[P_ED], 0.0, params[P_BETA1], dt)
     step_factors = (decay, scale, rate_filter_weight(params[P_RATE_FILTER], dt))
@@ -317,8 +385,7 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
     bulk = 0.0
     for start in range(first, end, EIGEN_LANES):
         n = min(EIGEN_LANES, end - start)
-        for lane in range(n):
-            foam_kinematics(start + lane, mesh, controls[0], work_space[2], work_space[3], lane)
+        foam_kinematics(start, n, mesh, controls[0], work_space[2], work_space[3], work_space[4])
         block_symmetric_eigen(work_space[3], n)
         for lane in range(n):
             work = foam_element(
