@@ -14,7 +14,8 @@ its geometry, hourglass control, bulk viscosity, nodal forces and stable step (`
    objective by construction, since b = F F^T rotates with the body. The eigen-decompositions
    of b, a third of a cell's time when done one at a time (a chain of dependent divisions and
    square roots), run for a block of cells at once, SIMD across the cells, between a first pass
-   over the block's cells (kinematics, b) and a second (the rest): the same bits;
+   over the block's cells (kinematics, b; SIMD) and the law (one cell at a time); steps 3-5 are
+   again one pass SIMD across the block: the same bits as one cell at a time;
 3. MAT_057's rate stress (ED, BETA1), a Maxwell stress E_d int exp(-beta_1 (t - s)) D ds
    rotated by the step's Hughes-Winget rotation like MAT_006's deviator;
 4. the DAMP stress DAMP rho c L_e D with L_e = V / A_max, the time step's length (so that the
@@ -283,103 +284,194 @@ def foam_kinematics(start, n, mesh, dt, keep, eig, gathered):
         keep[_at(K_VMID, lane)] = vmid
 
 
+# Rows of a block's ``response`` array (each EIGEN_LANES wide), between the second pass (the
+# law, one cell at a time) and the third (the element response, SIMD across the block). In:
+# the law's sigma (Voigt) and wave-speed modulus, the stored rate stress, the stress before the
+# step, the stored hourglass forces and the initial volume. Out: the new rate stress and total
+# stress, hourglass forces, nodal forces (component i of node a at R_FORCES + 8 i + a), volume,
+# stable step and the work (internal, hourglass, bulk viscosity).
+R_SIGMA, R_MODULUS, R_RATE_OLD, R_STRESS_OLD, R_HG_OLD, R_V0 = 0, 6, 7, 13, 19, 31
+R_RATE, R_TOTAL, R_HG, R_FORCES, R_VOL, R_DT, R_WORK = 32, 38, 44, 56, 80, 81, 82
+N_RESPONSE = 85
+
+
 @nb.njit(inline="always")
-def foam_element(e, mesh, material, state, outputs, controls, work_space, lane, step_factors):
-    """Stress update, nodal forces and stable step of cell ``e``, once :func:`foam_kinematics`
-    and the block's eigen-decomposition have run (its results in lane ``lane`` of ``work_space``);
-    returns its work [J] as (internal, hourglass, bulk viscosity). Arguments as in
-    :func:`compute_foam_forces`; ``work_space`` is (scratch (6, 3, 3), saved (N_HISTORY,), keep,
-    eig, gathered); ``step_factors`` the step's (decay, scale) of the rate stress and the rate
-    filter's weight, the same for every cell."""
-    cells = mesh[2]
-    rho0, volume0, table = material
+def _lane_six(block: np.ndarray, row: int, lane: int) -> tuple:
+    """The 6-tuple in rows row..row+5 of a lane."""
+    return _lane_vector(block, row, lane) + _lane_vector(block, row + 3, lane)
+
+
+@nb.njit(inline="always")
+def _store_lane_six(block: np.ndarray, row: int, lane: int, s: tuple) -> None:
+    """Write the 6-tuple s to rows row..row+5 of a lane."""
+    _store_lane_vector(block, row, lane, (s[0], s[1], s[2]))
+    _store_lane_vector(block, row + 3, lane, (s[3], s[4], s[5]))
+
+
+@nb.njit(inline="always")
+def _store_lane_eight(block: np.ndarray, row: int, lane: int, t: tuple) -> None:
+    """Write the 8-tuple t to rows row..row+7 of a lane."""
+    _store_lane_vector(block, row, lane, (t[0], t[1], t[2]))
+    _store_lane_vector(block, row + 3, lane, (t[3], t[4], t[5]))
+    block[_at(row + 6, lane)] = t[6]
+    block[_at(row + 7, lane)] = t[7]
+
+
+@nb.njit(inline="always")
+def _strain_rate(lg: tuple) -> tuple:
+    """D (Voigt, tensor shear components) of L (9-tuple)."""
+    return (lg[0], lg[4], lg[8], 0.5 * (lg[1] + lg[3]), 0.5 * (lg[5] + lg[7]),
+            0.5 * (lg[6] + lg[2]))  # fmt: skip
+
+
+@nb.njit(inline="always")
+def foam_law(e, lane, table, state, volume0, work_space, weight):
+    """The second pass for cell ``e`` in lane ``lane`` (module docstring, step 2): the foam law
+    from the block's decomposition of b, one cell at a time (its curve look-ups branch). Updates
+    the cell's history row and writes the law's sigma and modulus, the stored stresses and
+    hourglass forces and V0 into the lane of the ``response`` rows; the row as it was goes to
+    the lane of ``saved`` (restored by :func:`foam_store` for a cell without volume)."""
     history, hg_state = state
-    nodal, cell_volume, cell_dt = outputs  # nodal: the slot's flat (n_points * 3) forces
-    dt, q1, q2, hg_coefficient, fb, stiff = controls
-    scratch, saved, keep, eig = work_space[0], work_space[1], work_space[2], work_space[3]
+    scratch, keep, eig, response, saved = (work_space[0], work_space[2], work_space[3],
+                                           work_space[5], work_space[1])  # fmt: skip
     params = table[0]
-    cell = cells[e]
     row = history[e]
-    x = _load_modes(keep, K_X, lane)
-    v = _load_modes(keep, K_V, lane)
     lg = (
         _lane_vector(keep, K_L, lane)
         + _lane_vector(keep, K_L + 3, lane)
         + _lane_vector(keep, K_L + 6, lane)
     )
-    vmid = keep[_at(K_VMID, lane)]
-    dd = (lg[0], lg[4], lg[8], 0.5 * (lg[1] + lg[3]), 0.5 * (lg[5] + lg[7]),
-          0.5 * (lg[6] + lg[2]))  # fmt: skip
-    trd = lg[0] + lg[4] + lg[8]
-    # 2: the foam stress from the principal stretches of b = F F^T (decomposed for the block)
+    dd = _strain_rate(lg)
     for k in range(9):
         scratch[0, k // 3, k % 3] = eig[k * EIGEN_LANES + lane]
         scratch[1, k // 3, k % 3] = eig[(EIGEN_V + k) * EIGEN_LANES + lane]
     d_full = (dd[0], dd[3], dd[5], dd[3], dd[1], dd[4], dd[5], dd[4], dd[2])
     _fill(scratch[5], d_full)
-    saved[:] = row
-    old_row = saved
-    decay, scale, weight = step_factors
+    for k in range(N_HISTORY):
+        saved[_at(k, lane)] = row[k]
     tangent = principal_stress(scratch[0], scratch[1], scratch[5], weight, row, table, scratch)
     # the wave speed's modulus: E_eff, or the unloading tangent where that is stiffer
-    modulus = max(params[P_MODULUS], tangent + params[P_ED])
-    sigma = _voigt(scratch[3])
-    # 3: MAT_057's Maxwell rate stress, rotated with the step (Jaumann) and advanced
-    q = cayley_rotation(0.5 * (lg[1] - lg[3]), 0.5 * (lg[5] - lg[7]), 0.5 * (lg[6] - lg[2]), dt)
-    de = (dd[0] * dt, dd[1] * dt, dd[2] * dt, dd[3] * dt, dd[4] * dt, dd[5] * dt)
-    rate_stress, _ = advance_prony_term(_load6(row, H_RATE_STRESS), q, de, decay, scale)
-    # 4: the DAMP stress, with the current density and the effective wave speed
-    g1, g2, g3, g4, g5, g6, vol = modal_volume_gradient(x[0], x[1], x[2], x[3], x[4], x[5])
-    rho = rho0 * volume0[e] / vol if vol > 0.0 else rho0
-    c = np.sqrt(modulus / rho)
-    length = vol / modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])  # L_e, as dt's
-    damping = params[P_DAMP] * rho * c * abs(length)
-    total = _axpy6(_axpy6(sigma, rate_stress, 1.0), dd, damping)  # shear: tensor components
-    old = _load6(old_row, H_STRESS)
-    dev_work = half_stress_work(old, total, de)
-    hg_old = (
-        (hg_state[e, 0, 0], hg_state[e, 0, 1], hg_state[e, 0, 2]),
-        (hg_state[e, 1, 0], hg_state[e, 1, 1], hg_state[e, 1, 2]),
-        (hg_state[e, 2, 0], hg_state[e, 2, 1], hg_state[e, 2, 2]),
-        (hg_state[e, 3, 0], hg_state[e, 3, 1], hg_state[e, 3, 2]),
-    )
-    _, hg, forces, step, work = element_response(
-        x, v, (g1, g2, g3, g4, g5, g6), total, _ZERO6, hg_old,
-        (vol, volume0[e], trd, vmid, dev_work, 0.0), (rho0, 0.0, modulus),
-        (dt, q1, q2, hg_coefficient), fb, stiff,
-    )  # fmt: skip
-    ok = vol > 0.0
-    if ok:
-        _store6(row, H_RATE_STRESS, rate_stress)
-        _store6(row, H_STRESS, total)
+    response[_at(R_MODULUS, lane)] = max(params[P_MODULUS], tangent + params[P_ED])
+    _store_lane_six(response, R_SIGMA, lane, _voigt(scratch[3]))
+    _store_lane_six(response, R_RATE_OLD, lane, _load6(row, H_RATE_STRESS))
+    _store_lane_six(response, R_STRESS_OLD, lane, _lane_six(saved, H_STRESS, lane))
+    for mode in range(4):
+        hg = (hg_state[e, mode, 0], hg_state[e, mode, 1], hg_state[e, mode, 2])
+        _store_lane_vector(response, R_HG_OLD + 3 * mode, lane, hg)
+    response[_at(R_V0, lane)] = volume0[e]
+
+
+@nb.njit(error_model="numpy")
+def foam_response(n, keep, response, rho0, damp, controls, step_factors):
+    """The third pass over a block's n cells (module docstring, steps 3-5), one loop over the
+    lanes that LLVM vectorises: the rate stress, the DAMP stress, the element response
+    (pressure none, bulk viscosity, hourglass forces, nodal forces, stable step) from the
+    ``keep`` and ``response`` rows, into the ``response`` rows. ``damp`` is the foam's DAMP,
+    ``controls`` (dt, q1, q2, QH/QM, fb, stiff) and ``step_factors`` (decay, scale) of the rate
+    stress. The same operations in the same order as one cell at a time (no fast-math), the
+    same bits; NumPy's error model, so a degenerate cell gives inf or NaN, not an exception."""
+    dt, q1, q2, hg_coefficient, fb, stiff = controls
+    decay, scale = step_factors
+    for lane in range(n):
+        x = _load_modes(keep, K_X, lane)
+        v = _load_modes(keep, K_V, lane)
+        lg = (
+            _lane_vector(keep, K_L, lane)
+            + _lane_vector(keep, K_L + 3, lane)
+            + _lane_vector(keep, K_L + 6, lane)
+        )
+        vmid = keep[_at(K_VMID, lane)]
+        dd = _strain_rate(lg)
+        trd = lg[0] + lg[4] + lg[8]
+        modulus = response[_at(R_MODULUS, lane)]
+        v0 = response[_at(R_V0, lane)]
+        # 3: MAT_057's Maxwell rate stress, rotated with the step (Jaumann) and advanced
+        q = cayley_rotation(0.5 * (lg[1] - lg[3]), 0.5 * (lg[5] - lg[7]), 0.5 * (lg[6] - lg[2]),
+                            dt)  # fmt: skip
+        de = (dd[0] * dt, dd[1] * dt, dd[2] * dt, dd[3] * dt, dd[4] * dt, dd[5] * dt)
+        rate_stress, _ = advance_prony_term(_lane_six(response, R_RATE_OLD, lane), q, de, decay,
+                                            scale)  # fmt: skip
+        # 4: the DAMP stress, with the current density and the effective wave speed
+        g1, g2, g3, g4, g5, g6, vol = modal_volume_gradient(x[0], x[1], x[2], x[3], x[4], x[5])
+        rho = rho0 * v0 / vol if vol > 0.0 else rho0
+        c = np.sqrt(modulus / rho)
+        length = vol / modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])  # as dt's
+        damping = damp * rho * c * abs(length)
+        total = _axpy6(_axpy6(_lane_six(response, R_SIGMA, lane), rate_stress, 1.0), dd, damping)
+        dev_work = half_stress_work(_lane_six(response, R_STRESS_OLD, lane), total, de)
+        hg_old = (
+            _lane_vector(response, R_HG_OLD, lane),
+            _lane_vector(response, R_HG_OLD + 3, lane),
+            _lane_vector(response, R_HG_OLD + 6, lane),
+            _lane_vector(response, R_HG_OLD + 9, lane),
+        )
+        # 5: the element response on x^n
+        _, hg, forces, step, work = element_response(
+            x, v, (g1, g2, g3, g4, g5, g6), total, _ZERO6, hg_old,
+            (vol, v0, trd, vmid, dev_work, 0.0), (rho0, 0.0, modulus),
+            (dt, q1, q2, hg_coefficient), fb, stiff,
+        )  # fmt: skip
+        _store_lane_six(response, R_RATE, lane, rate_stress)
+        _store_lane_six(response, R_TOTAL, lane, total)
+        _store_lane_vector(response, R_HG, lane, hg[0])
+        _store_lane_vector(response, R_HG + 3, lane, hg[1])
+        _store_lane_vector(response, R_HG + 6, lane, hg[2])
+        _store_lane_vector(response, R_HG + 9, lane, hg[3])
+        _store_lane_eight(response, R_FORCES, lane, forces[0])
+        _store_lane_eight(response, R_FORCES + 8, lane, forces[1])
+        _store_lane_eight(response, R_FORCES + 16, lane, forces[2])
+        response[_at(R_VOL, lane)] = vol
+        response[_at(R_DT, lane)] = step / (damp + np.sqrt(1.0 + damp * damp))
+        _store_lane_vector(response, R_WORK, lane, work)
+
+
+@nb.njit(inline="always")
+def foam_store(e, lane, cells, state, outputs, work_space):
+    """The last pass for cell ``e`` in lane ``lane``: its history (the new rate stress and
+    stress, or the row as it was for a cell without volume), hourglass forces, nodal forces
+    (added into the slot's flat array), volume and stable step from the ``response`` rows;
+    returns its work [J] as (internal, hourglass, bulk viscosity)."""
+    history, hg_state = state
+    nodal, cell_volume, cell_dt = outputs
+    saved, response = work_space[1], work_space[5]
+    cell = cells[e]
+    row = history[e]
+    vol = response[_at(R_VOL, lane)]
+    if vol > 0.0:
+        _store6(row, H_RATE_STRESS, _lane_six(response, R_RATE, lane))
+        _store6(row, H_STRESS, _lane_six(response, R_TOTAL, lane))
     else:
-        row[:] = old_row
+        for k in range(N_HISTORY):
+            row[k] = saved[_at(k, lane)]
     for mode in range(4):
         for i in range(3):
-            hg_state[e, mode, i] = hg[mode][i]
+            hg_state[e, mode, i] = response[_at(R_HG + 3 * mode + i, lane)]
     for a in range(8):
         for i in range(3):
-            nodal[_node(cell, a, i)] += forces[i][a]
+            nodal[_node(cell, a, i)] += response[_at(R_FORCES + 8 * i + a, lane)]
     cell_volume[e] = vol
-    damp = params[P_DAMP]
-    cell_dt[e] = step / (damp + np.sqrt(1.0 + damp * damp))
-    return work
+    cell_dt[e] = response[_at(R_DT, lane)]
+    return _lane_vector(response, R_WORK, lane)
 
 
 @nb.njit
 def _foam_cells(first, end, mesh, material, state, outputs, controls):
     """Cells first..end-1 of one slot (``mesh``'s points and velocities and ``outputs``' nodal
     array, the slot's, as flat views (n_points * 3)); their (internal, hourglass, bulk
-    viscosity) work [J]. The cells go in blocks of EIGEN_LANES: a first pass
-    forms each cell's b = F F^T, the block's eigen-decompositions run at once (SIMD across its
-    cells, the same bits as one at a time), then a second pass finishes each cell in order. A
-    plain loop with the element inlined: called per cell from the parallel loop, the element's
-    arguments (some twenty arrays) were copied at every call."""
-    work_space = (np.empty((6, 3, 3)), np.empty(N_HISTORY), np.empty(N_KEEP * EIGEN_LANES),
-                  eigen_block(), np.empty(N_GATHER * EIGEN_LANES))  # fmt: skip
+    viscosity) work [J]. The cells go in blocks of EIGEN_LANES: a first pass forms each
+    cell's b = F F^T (:func:`foam_kinematics`, SIMD across the block), the block's
+    eigen-decompositions run at once, the law runs one cell at a time (:func:`foam_law`: its
+    curve look-ups branch), the element response SIMD across the block again
+    (:func:`foam_response`), and a last pass stores each cell's history and adds its forces in
+    cell order (:func:`foam_store`). Each SIMD pass does what one cell at a time did, in the
+    same order and without fast-math: the same bits. The per-cell passes are inlined: called
+    per cell, their arguments (some twenty arrays) were copied at every call."""
+    work_space = (np.empty((6, 3, 3)), np.empty(N_HISTORY * EIGEN_LANES),
+                  np.empty(N_KEEP * EIGEN_LANES), eigen_block(), np.empty(N_GATHER * EIGEN_LANES),
+                  np.empty(N_RESPONSE * EIGEN_LANES))  # fmt: skip
     params, dt = material[2][0], controls[0]
     decay, scale = viscoelastic_step_factors(0.5 * params[P_ED], 0.0, params[P_BETA1], dt)
-    step_factors = (decay, scale, rate_filter_weight(params[P_RATE_FILTER], dt))
+    weight = rate_filter_weight(params[P_RATE_FILTER], dt)
     internal = 0.0
     hourglass = 0.0
     bulk = 0.0
@@ -388,17 +480,11 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
         foam_kinematics(start, n, mesh, controls[0], work_space[2], work_space[3], work_space[4])
         block_symmetric_eigen(work_space[3], n)
         for lane in range(n):
-            work = foam_element(
-                start + lane,
-                mesh,
-                material,
-                state,
-                outputs,
-                controls,
-                work_space,
-                lane,
-                step_factors,
-            )
+            foam_law(start + lane, lane, material[2], state, material[1], work_space, weight)
+        foam_response(n, work_space[2], work_space[5], material[0], params[P_DAMP], controls,
+                      (decay, scale))  # fmt: skip
+        for lane in range(n):
+            work = foam_store(start + lane, lane, mesh[2], state, outputs, work_space)
             internal += work[0]
             hourglass += work[1]
             bulk += work[2]
