@@ -190,6 +190,24 @@ def _store_lane_vector(block: np.ndarray, row: int, lane: int, x: tuple) -> None
 
 
 @nb.njit(inline="always")
+def _lane_nine(block: np.ndarray, row: int, lane: int) -> tuple:
+    """The 9-tuple (a 3x3 tensor, row-major) in rows row..row+8 of a lane."""
+    return (
+        _lane_vector(block, row, lane)
+        + _lane_vector(block, row + 3, lane)
+        + _lane_vector(block, row + 6, lane)
+    )
+
+
+@nb.njit(inline="always")
+def _store_lane_nine(block: np.ndarray, row: int, lane: int, t: tuple) -> None:
+    """Write the 9-tuple t to rows row..row+8 of a lane."""
+    _store_lane_vector(block, row, lane, (t[0], t[1], t[2]))
+    _store_lane_vector(block, row + 3, lane, (t[3], t[4], t[5]))
+    _store_lane_vector(block, row + 6, lane, (t[6], t[7], t[8]))
+
+
+@nb.njit(inline="always")
 def _store_modes(keep: np.ndarray, first: int, lane: int, x: tuple) -> None:
     """Write the 7 modal sums (3-tuples) ``x`` to rows first..first + 20 of ``keep``'s lane."""
     _store_lane_vector(keep, first, lane, x[0])
@@ -273,14 +291,10 @@ def foam_kinematics(start, n, mesh, dt, keep, eig, gathered):
         b = left_cauchy_green(
             deformation_gradient(x, g0, gathered[_at(G_REF + REFERENCE_VOLUME, lane)])
         )
-        _store_lane_vector(eig, 0, lane, (b[0], b[1], b[2]))
-        _store_lane_vector(eig, 3, lane, (b[3], b[4], b[5]))
-        _store_lane_vector(eig, 6, lane, (b[6], b[7], b[8]))
+        _store_lane_nine(eig, 0, lane, b)
         _store_modes(keep, K_X, lane, x)
         _store_modes(keep, K_V, lane, v)
-        _store_lane_vector(keep, K_L, lane, (lg[0], lg[1], lg[2]))
-        _store_lane_vector(keep, K_L + 3, lane, (lg[3], lg[4], lg[5]))
-        _store_lane_vector(keep, K_L + 6, lane, (lg[6], lg[7], lg[8]))
+        _store_lane_nine(keep, K_L, lane, lg)
         keep[_at(K_VMID, lane)] = vmid
 
 
@@ -336,11 +350,7 @@ def foam_law(e, lane, table, state, volume0, work_space, weight):
                                            work_space[5], work_space[1])  # fmt: skip
     params = table[0]
     row = history[e]
-    lg = (
-        _lane_vector(keep, K_L, lane)
-        + _lane_vector(keep, K_L + 3, lane)
-        + _lane_vector(keep, K_L + 6, lane)
-    )
+    lg = _lane_nine(keep, K_L, lane)
     dd = _strain_rate(lg)
     for k in range(9):
         scratch[0, k // 3, k % 3] = eig[k * EIGEN_LANES + lane]
@@ -375,11 +385,7 @@ def foam_response(n, keep, response, rho0, damp, controls, step_factors):
     for lane in range(n):
         x = _load_modes(keep, K_X, lane)
         v = _load_modes(keep, K_V, lane)
-        lg = (
-            _lane_vector(keep, K_L, lane)
-            + _lane_vector(keep, K_L + 3, lane)
-            + _lane_vector(keep, K_L + 6, lane)
-        )
+        lg = _lane_nine(keep, K_L, lane)
         vmid = keep[_at(K_VMID, lane)]
         dd = _strain_rate(lg)
         trd = lg[0] + lg[4] + lg[8]
