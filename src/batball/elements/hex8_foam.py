@@ -300,13 +300,14 @@ def foam_kinematics(start, n, mesh, dt, keep, eig, gathered):
 
 # Rows of a block's ``response`` array (each EIGEN_LANES wide), between the second pass (the
 # law, one cell at a time) and the third (the element response, SIMD across the block). In:
-# the law's sigma (Voigt) and wave-speed modulus, the stored rate stress, the stress before the
-# step, the stored hourglass forces and the initial volume. Out: the new rate stress and total
-# stress, hourglass forces, nodal forces (component i of node a at R_FORCES + 8 i + a), volume,
-# stable step and the work (internal, hourglass, bulk viscosity).
-R_SIGMA, R_MODULUS, R_RATE_OLD, R_STRESS_OLD, R_HG_OLD, R_V0 = 0, 6, 7, 13, 19, 31
-R_RATE, R_TOTAL, R_HG, R_FORCES, R_VOL, R_DT, R_WORK = 32, 38, 44, 56, 80, 81, 82
-N_RESPONSE = 85
+# the law's sigma (Voigt) and wave-speed modulus, the stored hourglass forces and the initial
+# volume (the stored rate stress and stress are read from the rows of ``saved``, which the law
+# does not change). Out: the new rate stress and total stress, hourglass forces, nodal forces
+# (component i of node a at R_FORCES + 8 i + a), volume, stable step and the work (internal,
+# hourglass, bulk viscosity).
+R_SIGMA, R_MODULUS, R_HG_OLD, R_V0 = 0, 6, 7, 19
+R_RATE, R_TOTAL, R_HG, R_FORCES, R_VOL, R_DT, R_WORK = 20, 26, 32, 44, 68, 69, 70
+N_RESPONSE = 73
 
 
 @nb.njit(inline="always")
@@ -342,9 +343,10 @@ def _strain_rate(lg: tuple) -> tuple:
 def foam_law(e, lane, table, state, volume0, work_space, weight):
     """The second pass for cell ``e`` in lane ``lane`` (module docstring, step 2): the foam law
     from the block's decomposition of b, one cell at a time (its curve look-ups branch). Updates
-    the cell's history row and writes the law's sigma and modulus, the stored stresses and
-    hourglass forces and V0 into the lane of the ``response`` rows; the row as it was goes to
-    the lane of ``saved`` (restored by :func:`foam_store` for a cell without volume)."""
+    the cell's history row and writes the law's sigma and modulus, the stored hourglass forces
+    and V0 into the lane of the ``response`` rows; the row as it was goes to the lane of
+    ``saved`` (the stored stresses for :func:`foam_response`, and the row :func:`foam_store`
+    restores for a cell without volume)."""
     history, hg_state = state
     scratch, keep, eig, response, saved = (work_space[0], work_space[2], work_space[3],
                                            work_space[5], work_space[1])  # fmt: skip
@@ -353,8 +355,8 @@ def foam_law(e, lane, table, state, volume0, work_space, weight):
     lg = _lane_nine(keep, K_L, lane)
     dd = _strain_rate(lg)
     for k in range(9):
-        scratch[0, k // 3, k % 3] = eig[k * EIGEN_LANES + lane]
-        scratch[1, k // 3, k % 3] = eig[(EIGEN_V + k) * EIGEN_LANES + lane]
+        scratch[0, k // 3, k % 3] = eig[_at(k, lane)]
+        scratch[1, k // 3, k % 3] = eig[_at(EIGEN_V + k, lane)]
     d_full = (dd[0], dd[3], dd[5], dd[3], dd[1], dd[4], dd[5], dd[4], dd[2])
     _fill(scratch[5], d_full)
     for k in range(N_HISTORY):
@@ -363,8 +365,6 @@ def foam_law(e, lane, table, state, volume0, work_space, weight):
     # the wave speed's modulus: E_eff, or the unloading tangent where that is stiffer
     response[_at(R_MODULUS, lane)] = max(params[P_MODULUS], tangent + params[P_ED])
     _store_lane_six(response, R_SIGMA, lane, _voigt(scratch[3]))
-    _store_lane_six(response, R_RATE_OLD, lane, _load6(row, H_RATE_STRESS))
-    _store_lane_six(response, R_STRESS_OLD, lane, _lane_six(saved, H_STRESS, lane))
     for mode in range(4):
         hg = (hg_state[e, mode, 0], hg_state[e, mode, 1], hg_state[e, mode, 2])
         _store_lane_vector(response, R_HG_OLD + 3 * mode, lane, hg)
@@ -372,14 +372,15 @@ def foam_law(e, lane, table, state, volume0, work_space, weight):
 
 
 @nb.njit(error_model="numpy")
-def foam_response(n, keep, response, rho0, damp, controls, step_factors):
+def foam_response(n, keep, saved, response, rho0, damp, controls, step_factors):
     """The third pass over a block's n cells (module docstring, steps 3-5), one loop over the
     lanes that LLVM vectorises: the rate stress, the DAMP stress, the element response
     (pressure none, bulk viscosity, hourglass forces, nodal forces, stable step) from the
-    ``keep`` and ``response`` rows, into the ``response`` rows. ``damp`` is the foam's DAMP,
-    ``controls`` (dt, q1, q2, QH/QM, fb, stiff) and ``step_factors`` (decay, scale) of the rate
-    stress. The same operations in the same order as one cell at a time (no fast-math), the
-    same bits; NumPy's error model, so a degenerate cell gives inf or NaN, not an exception."""
+    ``keep``, ``saved`` and ``response`` rows, into the ``response`` rows. ``damp`` is the
+    foam's DAMP, ``controls`` (dt, q1, q2, QH/QM, fb, stiff) and ``step_factors`` (decay,
+    scale) of the rate stress. The same operations in the same order as one cell at a time (no
+    fast-math), the same bits; NumPy's error model, so a degenerate cell gives inf or NaN, not
+    an exception."""
     dt, q1, q2, hg_coefficient, fb, stiff = controls
     decay, scale = step_factors
     for lane in range(n):
@@ -395,7 +396,7 @@ def foam_response(n, keep, response, rho0, damp, controls, step_factors):
         q = cayley_rotation(0.5 * (lg[1] - lg[3]), 0.5 * (lg[5] - lg[7]), 0.5 * (lg[6] - lg[2]),
                             dt)  # fmt: skip
         de = (dd[0] * dt, dd[1] * dt, dd[2] * dt, dd[3] * dt, dd[4] * dt, dd[5] * dt)
-        rate_stress, _ = advance_prony_term(_lane_six(response, R_RATE_OLD, lane), q, de, decay,
+        rate_stress, _ = advance_prony_term(_lane_six(saved, H_RATE_STRESS, lane), q, de, decay,
                                             scale)  # fmt: skip
         # 4: the DAMP stress, with the current density and the effective wave speed
         g1, g2, g3, g4, g5, g6, vol = modal_volume_gradient(x[0], x[1], x[2], x[3], x[4], x[5])
@@ -404,7 +405,7 @@ def foam_response(n, keep, response, rho0, damp, controls, step_factors):
         length = vol / modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])  # as dt's
         damping = damp * rho * c * abs(length)
         total = _axpy6(_axpy6(_lane_six(response, R_SIGMA, lane), rate_stress, 1.0), dd, damping)
-        dev_work = half_stress_work(_lane_six(response, R_STRESS_OLD, lane), total, de)
+        dev_work = half_stress_work(_lane_six(saved, H_STRESS, lane), total, de)
         hg_old = (
             _lane_vector(response, R_HG_OLD, lane),
             _lane_vector(response, R_HG_OLD + 3, lane),
@@ -487,8 +488,8 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
         block_symmetric_eigen(work_space[3], n)
         for lane in range(n):
             foam_law(start + lane, lane, material[2], state, material[1], work_space, weight)
-        foam_response(n, work_space[2], work_space[5], material[0], params[P_DAMP], controls,
-                      (decay, scale))  # fmt: skip
+        foam_response(n, work_space[2], work_space[1], work_space[5], material[0],
+                      params[P_DAMP], controls, (decay, scale))  # fmt: skip
         for lane in range(n):
             work = foam_store(start + lane, lane, mesh[2], state, outputs, work_space)
             internal += work[0]
