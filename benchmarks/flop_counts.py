@@ -31,8 +31,9 @@ Convention:
 * divisions and square roots are not flops: they are listed separately (``*_DIVISIONS``,
   ``*_SQRTS``) because they are far slower;
 * transcendental calls are listed by name (``HEX8_CALLS``); in this code ``log`` and ``cbrt`` are
-  inline straight-line arithmetic (``vector_math.log64``, ``cbrt64``), whose own cost is given in
-  ``INLINE_CALL_COST`` for whoever wants to add it;
+  inline straight-line arithmetic (``vector_math.log64``, ``cbrt64`` in double precision,
+  ``log32``, ``cbrt32`` in single), whose own cost is given in ``INLINE_CALL_COST`` and
+  ``INLINE_CALL_COST_SINGLE`` for whoever wants to add it;
 * comparisons, selects (``a if ok else b``, ``max``, ``abs``), integer index arithmetic, bit
   operations, int/float conversions and loads/stores are not flops;
 * operations are counted as written in the Python source, what the code computes per element, not
@@ -147,6 +148,12 @@ HEX8_CALLS: dict[str, int] = {"log": 1, "cbrt": 1}
 INLINE_CALL_COST: dict[str, dict[str, int]] = {
     "log": {"flops": 29, "divisions": 1},
     "cbrt": {"flops": 37, "divisions": 0},
+}
+
+#: The same for the single-precision kernel (vector_math.log32, vector_math.cbrt32).
+INLINE_CALL_COST_SINGLE: dict[str, dict[str, int]] = {
+    "log": {"flops": 25, "divisions": 1},
+    "cbrt": {"flops": 35, "divisions": 0},
 }
 
 #: Flops of each further Prony term (n_terms > 1): hex8_block._make_prony_terms ->

@@ -6,6 +6,8 @@ Numba's ``np.log`` and ``np.cbrt`` are calls into the C library, which LLVM cann
 without a vector math library; these versions split x into exponent and mantissa with bit
 operations (``float_bits``, ``bits_float``: LLVM bitcasts) and finish with polynomials and
 iterations that are accurate to a unit or two in the last place (tests/unit/elements).
+A float32 argument is computed in float32 (``log32``, ``cbrt32``): its vector holds twice the
+lanes of a double one, and the float32 loops of the element kernel call both once per element.
 """
 
 from __future__ import annotations
@@ -44,6 +46,21 @@ _LG7 = 1.479819860511658591e-01
 # bits(m^(-1/3)) ~ this - bits(m) / 3 (a first guess within 3.5 %)
 _INVERSE_CBRT_MAGIC = np.uint64(0x553EF0FE047D3C00)
 
+# float32: fdlibm's e_logf.c split of ln 2 (k ln2_hi exact for |k| < 128) and its minimax
+# coefficients of (ln(1+f) - f + f^2/2) in s = f / (2 + f)
+_LN2_HI_32 = np.float32(float.fromhex("0x1.62e300p-1"))
+_LN2_LO_32 = np.float32(float.fromhex("0x1.2fefa2p-17"))
+_LG1_32 = np.float32(float.fromhex("0xaaaaaa.0p-24"))
+_LG2_32 = np.float32(float.fromhex("0xccce13.0p-25"))
+_LG3_32 = np.float32(float.fromhex("0x91e9ee.0p-25"))
+_LG4_32 = np.float32(float.fromhex("0xf89e26.0p-26"))
+_SMALLEST_NORMAL_32 = np.float32(np.finfo(np.float32).smallest_normal)
+_SQRT2_32 = np.float32(_SQRT2)
+_TWO_24_32 = np.float32(2.0**24)  # scales float32 subnormals up to normal numbers
+_INF_32 = np.float32(np.inf)
+# bits(m^(-1/3)) ~ this - bits(m) / 3 for float32 m in [1, 8) (a first guess within 3.5 %)
+_INVERSE_CBRT_MAGIC_32 = 0x54A23300
+
 
 @intrinsic
 def _float_bits(typingctx, x):
@@ -72,6 +89,65 @@ def _bits_float(typingctx, bits):
 #: Typed views of the intrinsics for mypy (the same objects for Numba).
 float_bits = cast("Callable[[float], np.uint64]", _float_bits)
 bits_float = cast("Callable[[np.uint64], float]", _bits_float)
+
+
+# The float32 bit work as LLVM's own 32-bit integer operations, in intrinsics: Numba widens
+# arithmetic on 32-bit integers to 64 bits, which would halve the float32 loops' vector width.
+_I32 = ir.IntType(32)
+
+
+def _float32_map(bit_work: Callable[[ir.IRBuilder, ir.Value], ir.Value]):  # noqa: ANN202
+    """An intrinsic float32 -> float32 that applies ``bit_work`` to the argument's bits (i32)."""
+
+    @intrinsic
+    def _map(typingctx, x):  # noqa: ANN001, ANN202
+        if x != types.float32:
+            return None
+
+        def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+            bits = builder.bitcast(args[0], _I32)
+            return builder.bitcast(bit_work(builder, bits), ir.FloatType())
+
+        return types.float32(types.float32), codegen
+
+    return cast("Callable[[float], float]", _map)
+
+
+#: The biased exponent of a positive float32, as a float32 (exact).
+_exponent32 = _float32_map(
+    lambda b, bits: b.bitcast(b.uitofp(b.lshr(bits, _I32(23)), ir.FloatType()), _I32)
+)
+#: The significand of a finite float32 as a number in [1, 2).
+_significand32 = _float32_map(
+    lambda b, bits: b.or_(b.and_(bits, _I32(0x007FFFFF)), _I32(0x3F800000))
+)
+#: 2^k for an integer-valued float32 k in [-126, 127].
+_power_of_two32 = _float32_map(
+    lambda b, bits: b.shl(
+        b.add(b.fptosi(b.bitcast(bits, ir.FloatType()), _I32), _I32(127)), _I32(23)
+    )
+)
+#: A first guess of m^(-1/3) for a float32 m in [1, 8), within 3.5 %.
+_inverse_cbrt_guess32 = _float32_map(
+    lambda b, bits: b.sub(_I32(_INVERSE_CBRT_MAGIC_32), b.udiv(bits, _I32(3)))
+)
+
+
+@intrinsic
+def _is_single(typingctx, x):  # noqa: ANN001, ANN202
+    """True for a float32 ``x``, False for a float64: a constant, so LLVM keeps one branch."""
+    if not isinstance(x, types.Float):
+        return None
+
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        return context.get_constant(types.boolean, signature.args[0] == types.float32)
+
+    return types.boolean(x), codegen
+
+
+is_single = cast("Callable[[float], bool]", _is_single)
+#: np.float32 as a conversion of one float (typed for mypy).
+_single = cast("Callable[[float], float]", np.float32)
 
 
 @intrinsic
@@ -106,8 +182,10 @@ def _log_special(x: float) -> float:
 
 @nb.njit(inline="always", fastmath=FASTMATH)
 def log(x: float) -> float:
-    """Natural logarithm, vectorisable; a float32 argument is computed in double and rounded
-    (:func:`log64`)."""
+    """Natural logarithm, vectorisable, in the precision of ``x`` (:func:`log32`,
+    :func:`log64`)."""
+    if is_single(x):
+        return like(x, log32(_single(x)))
     return like(x, log64(float(x)))
 
 
@@ -189,8 +267,10 @@ def _cbrt_reduced(m: float) -> float:
 
 @nb.njit(inline="always", fastmath=FASTMATH)
 def cbrt(x: float) -> float:
-    """Real cube root, vectorisable; a float32 argument is computed in double and rounded
-    (:func:`cbrt64`)."""
+    """Real cube root, vectorisable, in the precision of ``x`` (:func:`cbrt32`,
+    :func:`cbrt64`)."""
+    if is_single(x):
+        return like(x, cbrt32(_single(x)))
     return like(x, cbrt64(float(x)))
 
 
@@ -212,3 +292,49 @@ def cbrt64(x: float) -> float:
     y = _cbrt_reduced(m) * scale
     y = y if a > 0.0 and a < np.inf else a  # 0, inf and NaN
     return y if x >= 0.0 else (-y if x < 0.0 else x)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def log32(x: float) -> float:
+    """Natural logarithm of a float32 after fdlibm's e_logf.c, in float32 arithmetic;
+    vectorisable. As :func:`log64`: x = 2^k m, m in [sqrt(2)/2, sqrt(2)), ln(1 + f) in
+    s = f / (2 + f)."""
+    tiny = x < _SMALLEST_NORMAL_32
+    scaled = x * _TWO_24_32 if tiny else x
+    m = _significand32(scaled)  # [1, 2)
+    high = m > _SQRT2_32
+    m = like(x, 0.5) * m if high else m
+    k = _exponent32(scaled) - like(x, 151.0 if tiny else 127.0) + like(x, 1.0 if high else 0.0)
+    f = m - like(x, 1.0)
+    s = f / (like(x, 2.0) + f)
+    z = s * s
+    w = z * z
+    t1 = w * (_LG2_32 + w * _LG4_32)
+    t2 = z * (_LG1_32 + w * _LG3_32)
+    hfsq = like(x, 0.5) * f * f
+    result = k * _LN2_HI_32 - ((hfsq - (s * (hfsq + t1 + t2) + k * _LN2_LO_32)) - f)
+    return result if x > like(x, 0.0) and x < _INF_32 else like(x, _log_special(float(x)))
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def cbrt32(x: float) -> float:
+    """Real cube root of a float32, in float32 arithmetic; vectorisable. As :func:`cbrt64`:
+    |x| = 2^(3q + r) m, three Newton steps on m^(-1/3) (3.5 % -> 2.5e-3 -> 1.2e-5 -> 3e-10), then
+    y = m r^2 polished by one Newton step."""
+    third = like(x, 1.0 / 3.0)
+    a = abs(x)
+    tiny = a < _SMALLEST_NORMAL_32
+    scaled = a * _TWO_24_32 if tiny else a  # (2^24)^(1/3) = 2^8
+    e = _exponent32(scaled) - like(x, 127.0)
+    q = np.floor((e + like(x, 0.5)) * third)
+    m = _significand32(scaled) * _power_of_two32(e - like(x, 3.0) * q)  # [1, 8), exact
+    r = _inverse_cbrt_guess32(m)
+    r = r * (like(x, 4.0) - m * (r * r * r)) * third
+    r = r * (like(x, 4.0) - m * (r * r * r)) * third
+    r = r * (like(x, 4.0) - m * (r * r * r)) * third
+    r2 = r * r
+    y = m * r2
+    y = y - (y * y * y - m) * r2 * third
+    y = y * _power_of_two32(q - like(x, 8.0 if tiny else 0.0))
+    y = y if a > like(x, 0.0) and a < _INF_32 else a  # 0, inf and NaN
+    return y if x >= like(x, 0.0) else (-y if x < like(x, 0.0) else x)
