@@ -36,7 +36,6 @@ from batball.elements.hex8_block import (
     BLOCK,
     N_ROWS,
     constants_terms,
-    copy_history,
     element_block_fb_stiffness,
     element_block_fb_stiffness_2,
     element_block_fb_stiffness_3,
@@ -90,7 +89,7 @@ def slot_cells(slot: int, n_slots: int, n_cells: int) -> tuple[int, int]:
 
 
 @nb.njit(inline="always")
-def _advance_slot(element_block, stiff, slot, factors, mesh, material, history, outputs, controls):
+def _advance_slot(element_block, slot, factors, mesh, material, history, outputs, controls):
     """The cells of one slot, block by block: their forces are added into the slot's nodal
     array; returns their (internal, hourglass, bulk) work [J]."""
     dt, hg_coefficient, q1, q2 = controls
@@ -99,7 +98,7 @@ def _advance_slot(element_block, stiff, slot, factors, mesh, material, history, 
     first, end = slot_cells(slot, nodal_forces.shape[0], cells.shape[0])
     n_terms = constants_terms(material[1])
     # the block scratch, in the precision of the history
-    w = np.zeros((N_ROWS + 8 * (n_terms - 1)) * BLOCK, dtype=history.dtype)
+    w = np.zeros((N_ROWS + 2 * (n_terms - 1)) * BLOCK, dtype=history.dtype)
     # flat views of the nodal arrays for the gather and the scatter
     xs, vs, slot_forces = points.reshape(-1), velocities.reshape(-1), nodal_forces[slot].reshape(-1)
     internal = 0.0
@@ -109,10 +108,8 @@ def _advance_slot(element_block, stiff, slot, factors, mesh, material, history, 
         n = min(BLOCK, end - start)
         block = history[start // BLOCK]
         gather_nodes(w, start, n, xs, vs, cells)
-        copy_history(w, block, stiff, True)
         gather_material(w, start, n, material[0], factors)
-        a, b, c = element_block(w, n, dt, q1, q2, hg_coefficient)
-        copy_history(w, block, stiff, False)
+        a, b, c = element_block(w, block, n, dt, q1, q2, hg_coefficient)
         scatter_outputs(w, start, n, cell_volume, cell_dt)
         scatter_forces(w, start, n, cells, slot_forces)
         internal += a
@@ -122,7 +119,7 @@ def _advance_slot(element_block, stiff, slot, factors, mesh, material, history, 
 
 
 @nb.njit(inline="always")
-def _advance_all(element_block, stiff, mesh, material, history, outputs, controls):
+def _advance_all(element_block, mesh, material, history, outputs, controls):
     """All cells, in the equal contiguous slots of ``nodal_forces``, one slot per parallel
     iteration (so each slot's nodal array has one writer and the sums do not depend on how the
     iterations are scheduled)."""
@@ -130,7 +127,7 @@ def _advance_all(element_block, stiff, mesh, material, history, outputs, control
     factors = material_factors(material[1], material[2], controls[0])
     for slot in nb.prange(energy_increments.shape[0]):
         internal, hourglass, bulk = _advance_slot(
-            element_block, stiff, slot, factors, mesh, material, history, outputs, controls
+            element_block, slot, factors, mesh, material, history, outputs, controls
         )
         energy_increments[slot, ENERGY_INTERNAL] = internal
         energy_increments[slot, ENERGY_HOURGLASS] = hourglass
@@ -144,19 +141,19 @@ def _advance_all(element_block, stiff, mesh, material, history, outputs, control
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def _forces_viscous(mesh, material, history, outputs, controls):
     """IHQ 1."""
-    _advance_all(element_block_viscous, False, mesh, material, history, outputs, controls)
+    _advance_all(element_block_viscous, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def _forces_fb_viscous(mesh, material, history, outputs, controls):
     """IHQ 2 and 3."""
-    _advance_all(element_block_fb_viscous, False, mesh, material, history, outputs, controls)
+    _advance_all(element_block_fb_viscous, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def _forces_fb_stiffness(mesh, material, history, outputs, controls):
     """IHQ 4 and 5."""
-    _advance_all(element_block_fb_stiffness, True, mesh, material, history, outputs, controls)
+    _advance_all(element_block_fb_stiffness, mesh, material, history, outputs, controls)
 
 
 # The same for materials of 2 and 3 Prony terms (batball.materials.prony).
@@ -165,37 +162,37 @@ def _forces_fb_stiffness(mesh, material, history, outputs, controls):
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def _forces_viscous_2(mesh, material, history, outputs, controls):
     """IHQ 1, two Prony terms."""
-    _advance_all(element_block_viscous_2, False, mesh, material, history, outputs, controls)
+    _advance_all(element_block_viscous_2, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def _forces_fb_viscous_2(mesh, material, history, outputs, controls):
     """IHQ 2 and 3, two Prony terms."""
-    _advance_all(element_block_fb_viscous_2, False, mesh, material, history, outputs, controls)
+    _advance_all(element_block_fb_viscous_2, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def _forces_fb_stiffness_2(mesh, material, history, outputs, controls):
     """IHQ 4 and 5, two Prony terms."""
-    _advance_all(element_block_fb_stiffness_2, True, mesh, material, history, outputs, controls)
+    _advance_all(element_block_fb_stiffness_2, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def _forces_viscous_3(mesh, material, history, outputs, controls):
     """IHQ 1, three Prony terms."""
-    _advance_all(element_block_viscous_3, False, mesh, material, history, outputs, controls)
+    _advance_all(element_block_viscous_3, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def _forces_fb_viscous_3(mesh, material, history, outputs, controls):
     """IHQ 2 and 3, three Prony terms."""
-    _advance_all(element_block_fb_viscous_3, False, mesh, material, history, outputs, controls)
+    _advance_all(element_block_fb_viscous_3, mesh, material, history, outputs, controls)
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)
 def _forces_fb_stiffness_3(mesh, material, history, outputs, controls):
     """IHQ 4 and 5, three Prony terms."""
-    _advance_all(element_block_fb_stiffness_3, True, mesh, material, history, outputs, controls)
+    _advance_all(element_block_fb_stiffness_3, mesh, material, history, outputs, controls)
 
 
 #: Kernels keyed by (IHQ, Prony terms).

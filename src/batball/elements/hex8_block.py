@@ -5,7 +5,9 @@ Each block's data lives in one scratch vector ``w`` in structure-of-arrays form:
 from the mesh and state arrays, advanced by one loop over its elements ``e`` whose body is
 straight-line arithmetic on scalars and tuples (``hex8_kinematics``, ``hex8_response``), which
 LLVM vectorises, and scattered back. Keeping all rows in one array, a constant ``BLOCK`` apart,
-lets LLVM prove that the rows do not overlap.
+lets LLVM prove that the rows do not overlap. The element history is kept between cycles in
+the same layout, one row of the history array a block, and the loop reads and writes it in
+place (a second array: LLVM checks once, before the loop, that the two do not overlap).
 """
 
 from __future__ import annotations
@@ -36,27 +38,27 @@ BLOCK = 16 if wide_vectors() else 64
 # Rows of the block scratch (each BLOCK wide).
 R_X = 0  # 24 node coordinates x^n [m] (node-major), then the 24 nodal forces [N]
 R_V = 24  # 24 node velocities v^(n-1/2) [m/s]
-R_S = 48  # 6 s_inf [Pa]
-R_H = 54  # 6 h [Pa]
-R_P = 60  # pressure [Pa]
-R_V0 = 61  # initial volume [m^3]
-R_HG = 62  # 12 hourglass forces of the stiffness form [N] (mode-major)
-R_MAT = 74  # 6 material factors, the columns of material_factors()
-R_VOL = 80  # volume [m^3]
-R_DT = 81  # stable step [s]
-R_WORK = 82  # 3 work increments (internal, hourglass, bulk viscosity) [J], summed after the
+R_MAT = 48  # 6 material factors, the columns of material_factors()
+R_VOL = 54  # volume [m^3]
+R_DT = 55  # stable step [s]
+R_WORK = 56  # 3 work increments (internal, hourglass, bulk viscosity) [J], summed after the
 # element loop: without reassociation (numerics.FASTMATH) a sum carried through the loop
 # would keep LLVM from vectorising it (IHQ 4 ran at a third of its speed)
-N_ROWS = 85
-# A material with N Prony terms (N > 1) adds rows after N_ROWS: 6 (N - 1) rows of the further
-# terms' h (term-major), then 2 (N - 1) rows of their (decay, scale) factors.
+N_ROWS = 59
+# A material with N Prony terms (N > 1) adds 2 (N - 1) rows after N_ROWS: the further terms'
+# (decay, scale) factors.
 
-# The element history (what a cycle carries to the next) is kept between cycles in the block
-# layout itself, ``history[b, r * BLOCK + e]`` for cell b * BLOCK + e, with the rows
-# R_S..R_V0 (N_CORE_ROWS), then the 12 hourglass rows, then the further Prony terms' h: loading
-# and saving a block's history are then contiguous copies (no transposition).
-N_CORE_ROWS = R_HG - R_S
-N_HOURGLASS_ROWS = R_MAT - R_HG
+# The element history (what a cycle carries to the next) is kept between cycles in the same
+# layout, ``history[b, r * BLOCK + e]`` for cell b * BLOCK + e, and the element loop reads and
+# writes a block's row of it in place. Its rows:
+H_S = 0  # 6 s_inf [Pa]
+H_H = 6  # 6 h [Pa]
+H_P = 12  # pressure [Pa]
+H_V0 = 13  # initial volume [m^3]
+N_CORE_ROWS = 14
+H_HG = 14  # 12 hourglass forces of the stiffness form [N] (mode-major)
+N_HOURGLASS_ROWS = 12
+H_PRONY = 26  # 6 (N - 1) rows of the further Prony terms' h (term-major)
 
 
 #: The precisions of the element arithmetic, by name: the dtype of the kernel's history and
@@ -108,16 +110,16 @@ def pack_history(
     n_cells = len(volume0)
     n_blocks = -(-n_cells // BLOCK)
     columns = np.zeros((n_blocks * BLOCK, history_rows(n_terms)))
-    columns[:n_cells, R_V0 - R_S] = volume0
+    columns[:n_cells, H_V0] = volume0
     if s_inf is not None:
-        columns[:n_cells, 0:6] = s_inf
+        columns[:n_cells, H_S : H_S + 6] = s_inf
     if h is not None:
-        columns[:n_cells, R_H - R_S : R_H - R_S + 6] = h[:, :6]
-        columns[:n_cells, N_CORE_ROWS + N_HOURGLASS_ROWS :] = h[:, 6:]
+        columns[:n_cells, H_H : H_H + 6] = h[:, :6]
+        columns[:n_cells, H_PRONY:] = h[:, 6:]
     if pressure is not None:
-        columns[:n_cells, R_P - R_S] = pressure
+        columns[:n_cells, H_P] = pressure
     if hg_state is not None:
-        columns[:n_cells, N_CORE_ROWS : N_CORE_ROWS + N_HOURGLASS_ROWS] = hg_state.reshape(-1, 12)
+        columns[:n_cells, H_HG : H_HG + N_HOURGLASS_ROWS] = hg_state.reshape(-1, 12)
     blocks = columns.reshape(n_blocks, BLOCK, -1).transpose(0, 2, 1)
     return np.ascontiguousarray(blocks, dtype=dtype).reshape(n_blocks, -1)
 
@@ -131,13 +133,12 @@ def unpack_history(history: np.ndarray, n_cells: int) -> dict[str, np.ndarray]:
     history = history.astype(np.float64)
     columns = history.reshape(history.shape[0], rows, BLOCK).transpose(0, 2, 1)
     columns = columns.reshape(-1, rows)[:n_cells]
-    core = N_CORE_ROWS + N_HOURGLASS_ROWS
     return {
-        "volume0": columns[:, R_V0 - R_S].copy(),
-        "s_inf": columns[:, :6].copy(),
-        "h": np.concatenate([columns[:, R_H - R_S : R_H - R_S + 6], columns[:, core:]], axis=1),
-        "pressure": columns[:, R_P - R_S].copy(),
-        "hg_state": columns[:, N_CORE_ROWS:core].reshape(n_cells, 4, 3).copy(),
+        "volume0": columns[:, H_V0].copy(),
+        "s_inf": columns[:, H_S : H_S + 6].copy(),
+        "h": np.concatenate([columns[:, H_H : H_H + 6], columns[:, H_PRONY:]], axis=1),
+        "pressure": columns[:, H_P].copy(),
+        "hg_state": columns[:, H_HG : H_HG + N_HOURGLASS_ROWS].reshape(n_cells, 4, 3).copy(),
     }
 
 
@@ -238,18 +239,19 @@ def load_modal_sums(w: np.ndarray, row: int, e: int) -> Modes:
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
-def _load_hourglass(w, e):
-    """The four stored hourglass forces (3-tuples) [N]."""
-    return (load3(w, R_HG, e), load3(w, R_HG + 3, e), load3(w, R_HG + 6, e), load3(w, R_HG + 9, e))
+def _load_hourglass(history, e):
+    """The four stored hourglass forces (3-tuples) [N] of slot e of a block's history."""
+    return (load3(history, H_HG, e), load3(history, H_HG + 3, e),
+            load3(history, H_HG + 6, e), load3(history, H_HG + 9, e))  # fmt: skip
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
-def _store_hourglass(w, e, hg):
-    """Write the four hourglass forces (3-tuples) [N]."""
-    store3(w, R_HG, e, hg[0])
-    store3(w, R_HG + 3, e, hg[1])
-    store3(w, R_HG + 6, e, hg[2])
-    store3(w, R_HG + 9, e, hg[3])
+def _store_hourglass(history, e, hg):
+    """Write the four hourglass forces (3-tuples) [N] to slot e of a block's history."""
+    store3(history, H_HG, e, hg[0])
+    store3(history, H_HG + 3, e, hg[1])
+    store3(history, H_HG + 6, e, hg[2])
+    store3(history, H_HG + 9, e, hg[3])
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
@@ -266,11 +268,12 @@ def _store_nodal(w, e, i, f):
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
-def _store_element(w, e, s_inf, h, pressure, forces, vol, step):
-    """Write the stresses, pressure, nodal forces (three 8-tuples), volume and stable step."""
-    store6(w, R_S, e, s_inf)
-    store6(w, R_H, e, h)
-    w[at(R_P, e)] = pressure
+def _store_element(w, history, e, s_inf, h, pressure, forces, vol, step):
+    """Write the stresses and pressure (to the history), nodal forces (three 8-tuples), volume
+    and stable step."""
+    store6(history, H_S, e, s_inf)
+    store6(history, H_H, e, h)
+    history[at(H_P, e)] = pressure
     _store_nodal(w, e, 0, forces[0])
     _store_nodal(w, e, 1, forces[1])
     _store_nodal(w, e, 2, forces[2])
@@ -298,24 +301,24 @@ def _make_prony_terms(n_extra: int):
     """Advance the further Prony terms 2..n_extra+1 (n_extra = 1 or 2) of slot e in place;
     returns h_sum plus their new h, and their work. Straight-line, every value computed before
     the first store, so that the element loop stays SIMD (see the note above)."""
-    r_h = N_ROWS  # first row of term 2's h
-    r_factors = N_ROWS + 6 * n_extra  # first row of term 2's (decay, scale)
+    r_h = H_PRONY  # history row of term 2's h
+    r_factors = N_ROWS  # first row of term 2's (decay, scale)
 
     @nb.njit(inline="always", fastmath=FASTMATH)
-    def advance_one(w, e, q, de, h_sum):
+    def advance_one(w, history, e, q, de, h_sum):
         f = (w[at(r_factors, e)], w[at(r_factors + 1, e)])
-        h2, work2 = advance_prony_term(load6(w, r_h, e), q, de, f[0], f[1])
-        store6(w, r_h, e, h2)
+        h2, work2 = advance_prony_term(load6(history, r_h, e), q, de, f[0], f[1])
+        store6(history, r_h, e, h2)
         return _add6(h_sum, h2), work2
 
     @nb.njit(inline="always", fastmath=FASTMATH)
-    def advance_two(w, e, q, de, h_sum):
+    def advance_two(w, history, e, q, de, h_sum):
         f2 = (w[at(r_factors, e)], w[at(r_factors + 1, e)])
         f3 = (w[at(r_factors + 2, e)], w[at(r_factors + 3, e)])
-        h2, work2 = advance_prony_term(load6(w, r_h, e), q, de, f2[0], f2[1])
-        h3, work3 = advance_prony_term(load6(w, r_h + 6, e), q, de, f3[0], f3[1])
-        store6(w, r_h, e, h2)
-        store6(w, r_h + 6, e, h3)
+        h2, work2 = advance_prony_term(load6(history, r_h, e), q, de, f2[0], f2[1])
+        h3, work3 = advance_prony_term(load6(history, r_h + 6, e), q, de, f3[0], f3[1])
+        store6(history, r_h, e, h2)
+        store6(history, r_h + 6, e, h3)
         return _add6(_add6(h_sum, h2), h3), work2 + work3
 
     return advance_two if n_extra == 2 else advance_one
@@ -328,7 +331,7 @@ def _make_element_block(fb: bool, stiff: bool, n_terms: int = 1):
     advance_terms = _make_prony_terms(n_terms - 1)
 
     @nb.njit(fastmath=FASTMATH, error_model="numpy")
-    def element_block(w, n, dt, q1, q2, hg_coefficient):
+    def element_block(w, history, n, dt, q1, q2, hg_coefficient):
         """Advance slots 0..n-1 (SIMD across the slots) in the precision of ``w`` (float32 or
         float64; the controls are rounded to it); the (internal, hg, bulk) work [J].
 
@@ -347,23 +350,23 @@ def _make_element_block(fb: bool, stiff: bool, n_terms: int = 1):
         for e in range(n):
             x = load_modal_sums(w, R_X, e)
             v = load_modal_sums(w, R_V, e)
-            hg_old = _load_hourglass(w, e) if stiff else no_hourglass
-            p_old, v0 = w[at(R_P, e)], w[at(R_V0, e)]
+            hg_old = _load_hourglass(history, e) if stiff else no_hourglass
+            p_old, v0 = history[at(H_P, e)], history[at(H_V0, e)]
             s_inf, h, trd, dev_work, vmid, g, vol, q, de = element_kinematics(
-                x, v, load6(w, R_S, e), load6(w, R_H, e), _load_factors(w, e, M_TWO_G_INF),
-                controls[0],
+                x, v, load6(history, H_S, e), load6(history, H_H, e),
+                _load_factors(w, e, M_TWO_G_INF), controls[0],
             )  # fmt: skip
             h_all = h
             if prony:
-                h_all, prony_work = advance_terms(w, e, q, de, h)
+                h_all, prony_work = advance_terms(w, history, e, q, de, h)
                 dev_work += prony_work
             p, hg, forces, step, work = element_response(
                 x, v, g, s_inf, h_all, hg_old, (vol, v0, trd, vmid, dev_work, p_old),
                 _load_factors(w, e, M_RHO), controls, fb, stiff,
             )  # fmt: skip
-            _store_element(w, e, s_inf, h, p, forces, vol, step)
+            _store_element(w, history, e, s_inf, h, p, forces, vol, step)
             if stiff:
-                _store_hourglass(w, e, hg)
+                _store_hourglass(history, e, hg)
             w[at(R_WORK, e)] = work[0]
             w[at(R_WORK + 1, e)] = work[1]
             w[at(R_WORK + 2, e)] = work[2]
@@ -441,37 +444,17 @@ def gather_nodes(
 
 
 @nb.njit
-def copy_history(w: np.ndarray, block: np.ndarray, stiff: bool, load: bool) -> None:
-    """Copy one block's history (a row of the history array) into the scratch (``load``) or
-    back: the rows R_S..R_V0, the hourglass rows when ``stiff``, and the further Prony terms'
-    h (contiguous copies)."""
-    core = N_CORE_ROWS * BLOCK
-    hourglass = N_HOURGLASS_ROWS * BLOCK
-    extra = block.shape[0] - core - hourglass
-    segments = ((0, R_S * BLOCK, core), (core, R_HG * BLOCK, hourglass if stiff else 0),
-                (core + hourglass, N_ROWS * BLOCK, extra))  # fmt: skip
-    for first, row, size in segments:
-        if load:
-            for j in range(size):
-                w[row + j] = block[first + j]
-        else:
-            for j in range(size):
-                block[first + j] = w[row + j]
-
-
-@nb.njit
 def gather_material(
     w: np.ndarray, start: int, n: int, cell_material: np.ndarray, factors: np.ndarray
 ) -> None:
     """The material factors of cells start..start+n-1 (a broadcast where they share one)."""
-    n_extra = (factors.shape[1] - N_FACTORS) // 2
     first = cell_material[np.uint64(start)]
     shared = True
     for e in range(n):
         shared &= cell_material[np.uint64(start + e)] == first
     for k in range(factors.shape[1]):
-        # the further terms' factors sit after their 6 (N - 1) rows of h
-        row = R_MAT + k if k < N_FACTORS else N_ROWS + 6 * n_extra + k - N_FACTORS
+        # the further terms' factors after the scratch's own rows
+        row = R_MAT + k if k < N_FACTORS else N_ROWS + k - N_FACTORS
         if shared:
             value = factors[np.uint64(first), k]
             for e in range(n):

@@ -37,11 +37,10 @@ import numpy as np
 
 from batball.elements.hex8_block import (
     BLOCK,
-    N_CORE_ROWS,
-    N_HOURGLASS_ROWS,
-    R_H,
-    R_P,
-    R_S,
+    H_H,
+    H_P,
+    H_PRONY,
+    H_S,
     history_terms,
 )
 from batball.elements.shell_bt import BLOCK as SHELL_BLOCK
@@ -79,11 +78,10 @@ def hex_cell_stress(history: np.ndarray, n_cells: int) -> np.ndarray:
         part = rows[:, first : first + count, :].transpose(0, 2, 1)
         return part.reshape(-1, count)[:n_cells].astype(np.float64)
 
-    stress = cells(0, 6) + cells(R_H - R_S, 6)
-    further = N_CORE_ROWS + N_HOURGLASS_ROWS
+    stress = cells(H_S, 6) + cells(H_H, 6)
     for term in range(n_terms - 1):
-        stress += cells(further + 6 * term, 6)
-    stress[:, :3] -= cells(R_P - R_S, 1)
+        stress += cells(H_PRONY + 6 * term, 6)
+    stress[:, :3] -= cells(H_P, 1)
     return stress
 
 

@@ -21,6 +21,7 @@ from batball.elements.hex8_block import (
     BLOCK,
     N_ROWS,
     element_block_viscous,
+    history_rows,
     pack_history,
     unpack_history,
 )
@@ -301,7 +302,7 @@ def test_bulk_viscosity_off_and_uniform_material() -> None:
 def test_element_loop_is_simd_across_elements() -> None:
     # the speed rests on LLVM vectorising the element loop: packed-double arithmetic (..pd)
     w = np.ones(N_ROWS * BLOCK)
-    element_block_viscous(w, BLOCK, 1e-7, 1.5, 0.06, 0.1)
+    element_block_viscous(w, np.ones(history_rows(1) * BLOCK), BLOCK, 1e-7, 1.5, 0.06, 0.1)
     # the double signature by name: a float32 one may have been compiled first in this process
     signature = next(s for s in element_block_viscous.signatures if str(s[0].dtype) == "float64")
     asm = element_block_viscous.inspect_asm(signature)
@@ -314,7 +315,8 @@ def test_single_precision_element_loop_is_packed_single() -> None:
     # single precision pays only if the loop is packed-single and as wide as double's in lanes
     # x 2: one double load, store or sum in the loop would make LLVM choose the double width
     w = np.ones(N_ROWS * BLOCK, dtype=np.float32)
-    element_block_viscous(w, BLOCK, 1e-7, 1.5, 0.06, 0.1)
+    history = np.ones(history_rows(1) * BLOCK, dtype=np.float32)
+    element_block_viscous(w, history, BLOCK, 1e-7, 1.5, 0.06, 0.1)
     signature = next(s for s in element_block_viscous.signatures if str(s[0].dtype) == "float32")
     asm = element_block_viscous.inspect_asm(signature)
     single = re.findall(r"\tv?(?:add|sub|mul|div|f[n]?m(?:add|sub)\d*)ps\s", asm)
