@@ -322,4 +322,4 @@ def test_single_precision_element_loop_is_packed_single() -> None:
     single = re.findall(r"\tv?(?:add|sub|mul|div|f[n]?m(?:add|sub)\d*)ps\s", asm)
     double = re.findall(r"\tv?(?:add|sub|mul|div|f[n]?m(?:add|sub)\d*)pd\s", asm)
     assert len(single) > 400
-    assert len(double) < len(single) / 4  # only ln and the cube root run in double
+    assert not double  # ln and the cube root run in float32 too (vector_math.log32, cbrt32)
