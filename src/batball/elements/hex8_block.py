@@ -332,8 +332,9 @@ def _make_element_block(fb: bool, stiff: bool, n_terms: int = 1):
 
     @nb.njit(fastmath=FASTMATH, error_model="numpy")
     def element_block(w, history, n, dt, q1, q2, hg_coefficient):
-        """Advance slots 0..n-1 (SIMD across the slots) in the precision of ``w`` (float32 or
-        float64; the controls are rounded to it); the (internal, hg, bulk) work [J].
+        """Advance slots 0..n-1 (SIMD across the slots) of the block scratch ``w`` and of the
+        block's row ``history`` of the history array (in place), in the precision of both
+        (float32 or float64; the controls are rounded to it); the (internal, hg, bulk) work [J].
 
         The sums are in the precision of ``w`` too: LLVM picks the vector width from the widest
         type the loop loads, stores or reduces, so one double accumulator would halve the
