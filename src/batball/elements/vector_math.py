@@ -48,8 +48,9 @@ _INVERSE_CBRT_MAGIC = np.uint64(0x553EF0FE047D3C00)
 
 # float32: fdlibm's e_logf.c split of ln 2 (k ln2_hi exact for |k| < 128) and its minimax
 # coefficients of (ln(1+f) - f + f^2/2) in s = f / (2 + f)
-_LN2_HI_32 = np.float32(float.fromhex("0x1.62e300p-1"))
-_LN2_LO_32 = np.float32(float.fromhex("0x1.2fefa2p-17"))
+# (float32 values, typed as floats for mypy)
+_LN2_HI_32 = cast("float", np.float32(float.fromhex("0x1.62e300p-1")))
+_LN2_LO_32 = cast("float", np.float32(float.fromhex("0x1.2fefa2p-17")))
 _LG1_32 = np.float32(float.fromhex("0xaaaaaa.0p-24"))
 _LG2_32 = np.float32(float.fromhex("0xccce13.0p-25"))
 _LG3_32 = np.float32(float.fromhex("0x91e9ee.0p-25"))
@@ -225,6 +226,22 @@ def _float_uint(d: float) -> np.uint64:
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
+def _log_sum(
+    k: float,
+    f: float,
+    s: float,
+    t1: float,
+    t2: float,
+    ln2_hi: float,
+    ln2_lo: float,
+) -> float:
+    """fdlibm's ln x = k ln 2 + ln(1 + f) from f, s = f / (2 + f) and the polynomial's two
+    parts t1, t2, summed in its order (k ln2_hi exact, the small terms first)."""
+    hfsq = like(f, 0.5) * f * f
+    return k * ln2_hi - ((hfsq - (s * (hfsq + t1 + t2) + k * ln2_lo)) - f)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
 def log64(x: float) -> float:
     """Natural logarithm after fdlibm's e_log.c, within 2 ulp under fast-math; vectorisable.
 
@@ -243,9 +260,22 @@ def log64(x: float) -> float:
     w = z * z
     t1 = w * (_LG2 + w * (_LG4 + w * _LG6))
     t2 = z * (_LG1 + w * (_LG3 + w * (_LG5 + w * _LG7)))
-    hfsq = 0.5 * f * f
-    result = dk * _LN2_HI - ((hfsq - (s * (hfsq + t1 + t2) + dk * _LN2_LO)) - f)
+    result = _log_sum(dk, f, s, t1, t2, _LN2_HI, _LN2_LO)
     return result if x > 0.0 and x < np.inf else _log_special(x)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _inverse_cbrt_step(r: float, m: float) -> float:
+    """One Newton step r (4 - m r^3) / 3 towards m^(-1/3): a relative error e becomes 2 e^2."""
+    return r * (like(m, 4.0) - m * (r * r * r)) * like(m, 1.0 / 3.0)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def _polished_cbrt(m: float, r: float) -> float:
+    """m^(1/3) from r ~ m^(-1/3): y = m r^2 and one Newton step y - (y^3 - m) r^2 / 3."""
+    r2 = r * r
+    y = m * r2
+    return y - (y * y * y - m) * r2 * like(m, 1.0 / 3.0)
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
@@ -256,13 +286,11 @@ def _cbrt_reduced(m: float) -> float:
     r (4 - m r^3) / 3 (the error e becomes 2 e^2), then y = m r^2 polished by one Newton step.
     """
     r = bits_float(_INVERSE_CBRT_MAGIC - _float_uint(_uint_float(float_bits(m)) * (1.0 / 3.0)))
-    r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
-    r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
-    r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
-    r = r * (4.0 - m * (r * r * r)) * (1.0 / 3.0)
-    r2 = r * r
-    y = m * r2
-    return y - (y * y * y - m) * r2 * (1.0 / 3.0)
+    r = _inverse_cbrt_step(r, m)
+    r = _inverse_cbrt_step(r, m)
+    r = _inverse_cbrt_step(r, m)
+    r = _inverse_cbrt_step(r, m)
+    return _polished_cbrt(m, r)
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
@@ -311,8 +339,7 @@ def log32(x: float) -> float:
     w = z * z
     t1 = w * (_LG2_32 + w * _LG4_32)
     t2 = z * (_LG1_32 + w * _LG3_32)
-    hfsq = like(x, 0.5) * f * f
-    result = k * _LN2_HI_32 - ((hfsq - (s * (hfsq + t1 + t2) + k * _LN2_LO_32)) - f)
+    result = _log_sum(k, f, s, t1, t2, _LN2_HI_32, _LN2_LO_32)
     return result if x > like(x, 0.0) and x < _INF_32 else like(x, _log_special(float(x)))
 
 
@@ -329,12 +356,9 @@ def cbrt32(x: float) -> float:
     q = np.floor((e + like(x, 0.5)) * third)
     m = _significand32(scaled) * _power_of_two32(e - like(x, 3.0) * q)  # [1, 8), exact
     r = _inverse_cbrt_guess32(m)
-    r = r * (like(x, 4.0) - m * (r * r * r)) * third
-    r = r * (like(x, 4.0) - m * (r * r * r)) * third
-    r = r * (like(x, 4.0) - m * (r * r * r)) * third
-    r2 = r * r
-    y = m * r2
-    y = y - (y * y * y - m) * r2 * third
-    y = y * _power_of_two32(q - like(x, 8.0 if tiny else 0.0))
+    r = _inverse_cbrt_step(r, m)
+    r = _inverse_cbrt_step(r, m)
+    r = _inverse_cbrt_step(r, m)
+    y = _polished_cbrt(m, r) * _power_of_two32(q - like(x, 8.0 if tiny else 0.0))
     y = y if a > like(x, 0.0) and a < _INF_32 else a  # 0, inf and NaN
     return y if x >= like(x, 0.0) else (-y if x < like(x, 0.0) else x)
