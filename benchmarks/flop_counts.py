@@ -82,7 +82,7 @@ import math
 #: Flops per element-cycle by phase.
 HEX8: dict[str, int] = {
     # hex8_block.gather_nodes: 48 subtractions (double, the first node's values), single
-    # precision only; copy_history, gather_material: loads and stores only (0)
+    # precision only; gather_material: loads and stores only (0)
     "gather: relative nodes": 48,
     # hex8_block.load_modal_sums -> hex8_geometry.modal_sums: 23 adds per component, x and v
     "modal sums of x^n and v": 138,

@@ -34,8 +34,7 @@ import numpy as np
 
 from batball.elements.hex8_block import (
     BLOCK,
-    N_ROWS,
-    constants_terms,
+    R_MAT,
     element_block_fb_stiffness,
     element_block_fb_stiffness_2,
     element_block_fb_stiffness_3,
@@ -96,9 +95,8 @@ def _advance_slot(element_block, slot, factors, mesh, material, history, outputs
     points, velocities, cells = mesh
     nodal_forces, cell_volume, cell_dt = outputs[0], outputs[1], outputs[2]
     first, end = slot_cells(slot, nodal_forces.shape[0], cells.shape[0])
-    n_terms = constants_terms(material[1])
-    # the block scratch, in the precision of the history
-    w = np.zeros((N_ROWS + 2 * (n_terms - 1)) * BLOCK, dtype=history.dtype)
+    # the block scratch, in the precision of the history: its rows end with the material factors
+    w = np.zeros((R_MAT + factors.shape[1]) * BLOCK, dtype=history.dtype)
     # flat views of the nodal arrays for the gather and the scatter
     xs, vs, slot_forces = points.reshape(-1), velocities.reshape(-1), nodal_forces[slot].reshape(-1)
     internal = 0.0

@@ -38,15 +38,14 @@ BLOCK = 16 if wide_vectors() else 64
 # Rows of the block scratch (each BLOCK wide).
 R_X = 0  # 24 node coordinates x^n [m] (node-major), then the 24 nodal forces [N]
 R_V = 24  # 24 node velocities v^(n-1/2) [m/s]
-R_MAT = 48  # 6 material factors, the columns of material_factors()
-R_VOL = 54  # volume [m^3]
-R_DT = 55  # stable step [s]
-R_WORK = 56  # 3 work increments (internal, hourglass, bulk viscosity) [J], summed after the
+R_VOL = 48  # volume [m^3]
+R_DT = 49  # stable step [s]
+R_WORK = 50  # 3 work increments (internal, hourglass, bulk viscosity) [J], summed after the
 # element loop: without reassociation (numerics.FASTMATH) a sum carried through the loop
 # would keep LLVM from vectorising it (IHQ 4 ran at a third of its speed)
+R_MAT = 53  # the material factors, row R_MAT + k for column k of material_factors(): 6 rows,
+# and for a material of N Prony terms (N > 1) 2 (N - 1) more after N_ROWS
 N_ROWS = 59
-# A material with N Prony terms (N > 1) adds 2 (N - 1) rows after N_ROWS: the further terms'
-# (decay, scale) factors.
 
 # The element history (what a cycle carries to the next) is kept between cycles in the same
 # layout, ``history[b, r * BLOCK + e]`` for cell b * BLOCK + e, and the element loop reads and
@@ -302,7 +301,7 @@ def _make_prony_terms(n_extra: int):
     returns h_sum plus their new h, and their work. Straight-line, every value computed before
     the first store, so that the element loop stays SIMD (see the note above)."""
     r_h = H_PRONY  # history row of term 2's h
-    r_factors = N_ROWS  # first row of term 2's (decay, scale)
+    r_factors = R_MAT + N_FACTORS  # first row of term 2's (decay, scale)
 
     @nb.njit(inline="always", fastmath=FASTMATH)
     def advance_one(w, history, e, q, de, h_sum):
@@ -454,8 +453,7 @@ def gather_material(
     for e in range(n):
         shared &= cell_material[np.uint64(start + e)] == first
     for k in range(factors.shape[1]):
-        # the further terms' factors after the scratch's own rows
-        row = R_MAT + k if k < N_FACTORS else N_ROWS + k - N_FACTORS
+        row = R_MAT + k
         if shared:
             value = factors[np.uint64(first), k]
             for e in range(n):
