@@ -13,9 +13,10 @@ its geometry, hourglass control, bulk viscosity, nodal forces and stable step (`
 2. the foam stress from F (as :func:`batball.materials.foam_update.foam_stress` forms it);
    objective by construction, since b = F F^T rotates with the body. The eigen-decompositions
    of b, a third of a cell's time when done one at a time (a chain of dependent divisions and
-   square roots), run for a block of cells at once, SIMD across the cells, between a first pass
-   over the block's cells (kinematics, b; SIMD) and the law (one cell at a time); steps 3-5 are
-   again one pass SIMD across the block: the same bits as one cell at a time;
+   square roots), run for a block of cells at once, SIMD across the cells, after a first pass
+   over the block's cells (kinematics, b; SIMD); so does the law, its branches as selects and
+   its curve look-ups one curve point at a time across the block; steps 3-5 are again one pass
+   SIMD across the block: the same bits as one cell at a time;
 3. MAT_057's rate stress (ED, BETA1), a Maxwell stress E_d int exp(-beta_1 (t - s)) D ds
    rotated by the step's Hughes-Winget rotation like MAT_006's deviator;
 4. the DAMP stress DAMP rho c L_e D with L_e = V / A_max, the time step's length (so that the
@@ -57,14 +58,21 @@ from batball.elements.hex8_response import element_response
 from batball.materials.foam import P_BETA1, P_DAMP, P_ED, P_MODULUS, P_RATE_FILTER
 from batball.materials.foam_update import (
     EIGEN_LANES,
-    EIGEN_V,
+    H_RATE,
     H_RATE_STRESS,
     H_STRESS,
+    H_WMAX,
+    LAW_D,
+    LAW_RATE,
+    LAW_SIGMA,
+    LAW_TANGENT,
+    LAW_WMAX,
     N_HISTORY,
+    block_principal_stress,
     block_symmetric_eigen,
     eigen_block,
+    law_block,
     left_cauchy_green,
-    principal_stress,
     rate_filter_weight,
 )
 from batball.materials.viscoelastic import viscoelastic_step_factors
@@ -133,21 +141,6 @@ def deformation_gradient(x: tuple, g0: tuple, v0: float) -> tuple:
     (six 3-tuples) and its reference volume V0, from :func:`foam_reference_gradients`:
     sum_k X_k (x) G0_k / V0 (module docstring, step 1)."""
     return velocity_gradient(x, g0, v0)
-
-
-@nb.njit(inline="always")
-def _voigt(a: np.ndarray) -> tuple:
-    """The Voigt 6-tuple (xx, yy, zz, xy, yz, zx) of the symmetric 3x3 ``a``."""
-    return (a[0, 0], a[1, 1], a[2, 2], 0.5 * (a[0, 1] + a[1, 0]),
-            0.5 * (a[1, 2] + a[2, 1]), 0.5 * (a[2, 0] + a[0, 2]))  # fmt: skip
-
-
-@nb.njit(inline="always")
-def _fill(target: np.ndarray, t: tuple) -> None:
-    """Write the 9-tuple t (row-major) into the 3x3 ``target``."""
-    for i in range(3):
-        for j in range(3):
-            target[i, j] = t[3 * i + j]
 
 
 @nb.njit(inline="always")
@@ -299,7 +292,7 @@ def foam_kinematics(start, n, mesh, dt, keep, eig, gathered):
 
 
 # Rows of a block's ``response`` array (each EIGEN_LANES wide), between the second pass (the
-# law, one cell at a time) and the third (the element response, SIMD across the block). In:
+# law) and the third (the element response, SIMD across the block). In:
 # the law's sigma (Voigt) and wave-speed modulus, the stored hourglass forces and the initial
 # volume (the stored rate stress and stress are read from the rows of ``saved``, which the law
 # does not change). Out: the new rate stress and total stress, hourglass forces, nodal forces
@@ -340,35 +333,41 @@ def _strain_rate(lg: tuple) -> tuple:
 
 
 @nb.njit(inline="always")
-def foam_law(e, lane, table, state, volume0, work_space, weight):
-    """The second pass for cell ``e`` in lane ``lane`` (module docstring, step 2): the foam law
-    from the block's decomposition of b, one cell at a time (its curve look-ups branch). Updates
-    the cell's history row and writes the law's sigma and modulus, the stored hourglass forces
-    and V0 into the lane of the ``response`` rows; the row as it was goes to the lane of
-    ``saved`` (the stored stresses for :func:`foam_response`, and the row :func:`foam_store`
-    restores for a cell without volume)."""
+def foam_law(start, n, table, state, volume0, work_space, weight):
+    """The second pass over cells start..start+n-1 (module docstring, step 2): the foam law from
+    the block's decomposition of b, for the block at once
+    (:func:`batball.materials.foam_update.block_principal_stress`). Updates the cells' history
+    rows and writes the law's sigma and modulus, the stored hourglass forces and V0 into the
+    lanes of the ``response`` rows; each row as it was goes to the lane of ``saved`` (the
+    stored stresses for :func:`foam_response`, and the row :func:`foam_store` restores for a
+    cell without volume)."""
     history, hg_state = state
-    scratch, keep, eig, response, saved = (work_space[0], work_space[2], work_space[3],
-                                           work_space[5], work_space[1])  # fmt: skip
+    law, saved, keep, eig, response = (work_space[0], work_space[1], work_space[2],
+                                       work_space[3], work_space[5])  # fmt: skip
     params = table[0]
-    row = history[e]
-    lg = _lane_nine(keep, K_L, lane)
-    dd = _strain_rate(lg)
-    for k in range(9):
-        scratch[0, k // 3, k % 3] = eig[_at(k, lane)]
-        scratch[1, k // 3, k % 3] = eig[_at(EIGEN_V + k, lane)]
-    d_full = (dd[0], dd[3], dd[5], dd[3], dd[1], dd[4], dd[5], dd[4], dd[2])
-    _fill(scratch[5], d_full)
-    for k in range(N_HISTORY):
-        saved[_at(k, lane)] = row[k]
-    tangent = principal_stress(scratch[0], scratch[1], scratch[5], weight, row, table, scratch)
-    # the wave speed's modulus: E_eff, or the unloading tangent where that is stiffer
-    response[_at(R_MODULUS, lane)] = max(params[P_MODULUS], tangent + params[P_ED])
-    _store_lane_six(response, R_SIGMA, lane, _voigt(scratch[3]))
-    for mode in range(4):
-        hg = (hg_state[e, mode, 0], hg_state[e, mode, 1], hg_state[e, mode, 2])
-        _store_lane_vector(response, R_HG_OLD + 3 * mode, lane, hg)
-    response[_at(R_V0, lane)] = volume0[e]
+    for lane in range(n):
+        e = start + lane
+        for k in range(N_HISTORY):
+            saved[_at(k, lane)] = history[e, k]
+        law[_at(LAW_RATE, lane)] = history[e, H_RATE]
+        law[_at(LAW_WMAX, lane)] = history[e, H_WMAX]
+        _store_lane_six(law, LAW_D, lane, _strain_rate(_lane_nine(keep, K_L, lane)))
+        for mode in range(4):
+            hg = (hg_state[e, mode, 0], hg_state[e, mode, 1], hg_state[e, mode, 2])
+            _store_lane_vector(response, R_HG_OLD + 3 * mode, lane, hg)
+        response[_at(R_V0, lane)] = volume0[e]
+    block_principal_stress(law, eig, n, weight, table)
+    for lane in range(n):
+        e = start + lane
+        history[e, H_RATE] = law[_at(LAW_RATE, lane)]
+        history[e, H_WMAX] = law[_at(LAW_WMAX, lane)]
+        # the wave speed's modulus: E_eff, or the unloading tangent where that is stiffer
+        tangent = law[_at(LAW_TANGENT, lane)]
+        response[_at(R_MODULUS, lane)] = max(params[P_MODULUS], tangent + params[P_ED])
+        sigma = _lane_nine(law, LAW_SIGMA, lane)
+        voigt = (sigma[0], sigma[4], sigma[8], 0.5 * (sigma[1] + sigma[3]),
+                 0.5 * (sigma[5] + sigma[7]), 0.5 * (sigma[6] + sigma[2]))  # fmt: skip
+        _store_lane_six(response, R_SIGMA, lane, voigt)
 
 
 @nb.njit(error_model="numpy")
@@ -467,13 +466,13 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
     array, the slot's, as flat views (n_points * 3)); their (internal, hourglass, bulk
     viscosity) work [J]. The cells go in blocks of EIGEN_LANES: a first pass forms each
     cell's b = F F^T (:func:`foam_kinematics`, SIMD across the block), the block's
-    eigen-decompositions run at once, the law runs one cell at a time (:func:`foam_law`: its
-    curve look-ups branch), the element response SIMD across the block again
+    eigen-decompositions and the law run for the block at once (:func:`foam_law`), the
+    element response SIMD across the block again
     (:func:`foam_response`), and a last pass stores each cell's history and adds its forces in
     cell order (:func:`foam_store`). Each SIMD pass does what one cell at a time did, in the
     same order and without fast-math: the same bits. The per-cell passes are inlined: called
     per cell, their arguments (some twenty arrays) were copied at every call."""
-    work_space = (np.empty((6, 3, 3)), np.empty(N_HISTORY * EIGEN_LANES),
+    work_space = (law_block(), np.empty(N_HISTORY * EIGEN_LANES),
                   np.empty(N_KEEP * EIGEN_LANES), eigen_block(), np.empty(N_GATHER * EIGEN_LANES),
                   np.empty(N_RESPONSE * EIGEN_LANES))  # fmt: skip
     params, dt = material[2][0], controls[0]
@@ -486,8 +485,7 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
         n = min(EIGEN_LANES, end - start)
         foam_kinematics(start, n, mesh, controls[0], work_space[2], work_space[3], work_space[4])
         block_symmetric_eigen(work_space[3], n)
-        for lane in range(n):
-            foam_law(start + lane, lane, material[2], state, material[1], work_space, weight)
+        foam_law(start, n, material[2], state, material[1], work_space, weight)
         foam_response(n, work_space[2], work_space[1], work_space[5], material[0],
                       params[P_DAMP], controls, (decay, scale))  # fmt: skip
         for lane in range(n):

@@ -2,7 +2,9 @@
 
 The law and its sources are described in :mod:`batball.materials.foam`. Here: loading-curve
 interpolation, the curve energy, a Jacobi eigen-decomposition of b = F F^T, and the update of one
-point from its deformation gradient. The table arrays are those of
+point from its deformation gradient; the decomposition and the update also for a block of points
+at once (SIMD across the points, the same bits as one at a time), as the foam kernel runs them.
+The table arrays are those of
 :meth:`batball.materials.foam.FoamLaw.foam_table`: ``params`` (columns ``P_*``), ``rates``
 (n_curves,), ``strains``/``stresses`` (n_curves, n_max), ``counts`` (n_curves,), ``energies``
 (n_max,). A point's history row holds ``H_*``.
@@ -39,12 +41,17 @@ def _segment(strains: np.ndarray, count: int, s: float) -> int:
 
 
 @nb.njit(inline="always")
+def _segment_slope(strains: np.ndarray, stresses: np.ndarray, k: int) -> float:
+    """The slope of segment k (points k, k+1) of a curve."""
+    return (stresses[k + 1] - stresses[k]) / (strains[k + 1] - strains[k])
+
+
+@nb.njit(inline="always")
 def curve_stress(strains: np.ndarray, stresses: np.ndarray, count: int, s: float) -> float:
     """Loading-curve stress at compressive strain s >= 0 [Pa]: linear between points, extended
     with the last segment's slope beyond the last point (LS-DYNA's curve extrapolation)."""
     k = _segment(strains, count, s)
-    slope = (stresses[k + 1] - stresses[k]) / (strains[k + 1] - strains[k])
-    return stresses[k] + slope * (s - strains[k])
+    return stresses[k] + _segment_slope(strains, stresses, k) * (s - strains[k])
 
 
 @nb.njit(inline="always")
@@ -53,9 +60,8 @@ def curve_energy(
 ) -> float:
     """Energy density int_0^s f(x) dx under the piecewise-linear curve [J/m^3]."""
     k = _segment(strains, count, s)
-    slope = (stresses[k + 1] - stresses[k]) / (strains[k + 1] - strains[k])
     d = s - strains[k]
-    return energies[k] + stresses[k] * d + 0.5 * slope * d * d
+    return energies[k] + stresses[k] * d + 0.5 * _segment_slope(strains, stresses, k) * d * d
 
 
 @nb.njit(inline="always")
@@ -229,8 +235,7 @@ def hysteresis_factor(w: float, w_max: float, hu: float, shape: float) -> float:
 @nb.njit(inline="always")
 def curve_slope(strains: np.ndarray, stresses: np.ndarray, count: int, s: float) -> float:
     """The loading curve's slope at compressive strain s [Pa]."""
-    k = _segment(strains, count, s)
-    return (stresses[k + 1] - stresses[k]) / (strains[k + 1] - strains[k])
+    return _segment_slope(strains, stresses, _segment(strains, count, s))
 
 
 @nb.njit(inline="always")
@@ -377,10 +382,300 @@ def principal_stress(
     tau = scratch[2, 1]
     tangent = principal_nominal_stresses(stretches, history[H_RATE], history, table, tau)
     jacobian = stretches[0] * stretches[1] * stretches[2]
+    # the principal Cauchy stresses tau_k lambda_k / J, formed once (sigma shares the scratch
+    # array with tau and the stretches, so the compiler could not hoist them out of the loop)
+    cauchy = (tau[0] * stretches[0] / jacobian, tau[1] * stretches[1] / jacobian,
+              tau[2] * stretches[2] / jacobian)  # fmt: skip
     for i in range(3):
         for j in range(3):
             total = 0.0
             for k in range(3):
-                total += tau[k] * stretches[k] / jacobian * vectors[i, k] * vectors[j, k]
+                total += cauchy[k] * vectors[i, k] * vectors[j, k]
             sigma[i, j] = total
     return tangent
+
+
+# Rows of a law block (each EIGEN_LANES wide) for :func:`block_principal_stress`.
+# In: the rate of deformation D (Voigt, tensor shear components) [1/s], and from the point's
+# history its filtered rate [1/s] and W_max [J/m^3] (updated in place).
+LAW_D, LAW_RATE, LAW_WMAX = 0, 6, 7
+# Out: sigma (3 x 3, row-major) [Pa] and the largest principal Cauchy tangent [Pa].
+LAW_SIGMA, LAW_TANGENT = 8, 17
+# Between the passes: the three stretches, compressive strains -e_i and segments of the first
+# curve; W, 1 - D, d(1 - D)/dW and whether loading (1.0 or 0.0); MAT_083's three stresses on
+# its rate curves, its lower curve and rate bracket j, and the segments of the lower curve and
+# of curve j + 1 (three each).
+LAW_STRETCH, LAW_STRAIN, LAW_SEGMENT = 18, 21, 24
+LAW_ENERGY, LAW_FACTOR, LAW_GROWTH, LAW_LOADING = 27, 28, 29, 30
+LAW_RATED, LAW_CURVE, LAW_CURVE_SEGMENT = 31, 34, 36
+# Direction i's segment of the first curve, row LAW_KNOT + 5 i + K_*: the strain, stress and
+# energy at its first point and the strain and stress at its second.
+LAW_KNOT = 42
+K_STRAIN, K_NEXT_STRAIN, K_STRESS, K_NEXT_STRESS, K_ENERGY = range(5)
+LAW_ROWS = 57
+
+
+@nb.njit
+def law_block() -> np.ndarray:
+    """Work space for :func:`block_principal_stress` (zeros: the lanes past a block's cells
+    compute on finite numbers)."""
+    return np.zeros(LAW_ROWS * EIGEN_LANES)
+
+
+@nb.njit(inline="always")
+def _smallest(s0: float, s1: float, s2: float) -> int:
+    """np.argmin of (s0, s1, s2): the first smallest, or the first NaN."""
+    m = 0 if s0 == s0 else 3
+    m = 1 if m == 0 and (s1 < s0 or s1 != s1) else m
+    m = 2 if m == 0 and (s2 < s0 or s2 != s2) else m
+    m = 2 if m == 1 and s1 == s1 and (s2 < s1 or s2 != s2) else m
+    return 0 if m == 3 else m
+
+
+@nb.njit(inline="always")
+def _column(eig: np.ndarray, row: int, e: int, m: int) -> float:
+    """Entry m of the three in rows row..row+2 of lane e (selects, not an index: the loop stays
+    SIMD)."""
+    a, b, c = eig[_at(row, e)], eig[_at(row + 1, e)], eig[_at(row + 2, e)]
+    return a if m == 0 else (b if m == 1 else c)
+
+
+@nb.njit(inline="always")
+def _index(law: np.ndarray, row: int, e: int) -> np.uint64:
+    """A count kept in a law row, as an unsigned index (no negative-index wraparound, whose
+    branch would keep the loop from vectorising)."""
+    return np.uint64(np.int32(law[_at(row, e)]))
+
+
+@nb.njit(error_model="numpy")
+def _block_stretches(law: np.ndarray, eig: np.ndarray, weight: float) -> None:
+    """Pass 1: the principal stretches, the compressive strains and the filtered rate."""
+    for e in range(EIGEN_LANES):
+        s0 = np.sqrt(max(eig[_at(0, e)], 1e-300))
+        s1 = np.sqrt(max(eig[_at(4, e)], 1e-300))
+        s2 = np.sqrt(max(eig[_at(8, e)], 1e-300))
+        m = _smallest(s0, s1, s2)
+        d = (law[_at(LAW_D, e)], law[_at(LAW_D + 1, e)], law[_at(LAW_D + 2, e)],
+             law[_at(LAW_D + 3, e)], law[_at(LAW_D + 4, e)], law[_at(LAW_D + 5, e)])  # fmt: skip
+        v0 = _column(eig, EIGEN_V, e, m)
+        v1 = _column(eig, EIGEN_V + 3, e, m)
+        v2 = _column(eig, EIGEN_V + 6, e, m)
+        # -v^T D v over the full matrix, entry by entry in row order, as the one-point routine
+        rate = 0.0
+        rate -= v0 * d[0] * v0
+        rate -= v0 * d[3] * v1
+        rate -= v0 * d[5] * v2
+        rate -= v1 * d[3] * v0
+        rate -= v1 * d[1] * v1
+        rate -= v1 * d[4] * v2
+        rate -= v2 * d[5] * v0
+        rate -= v2 * d[4] * v1
+        rate -= v2 * d[2] * v2
+        law[_at(LAW_RATE, e)] = filtered_rate(law[_at(LAW_RATE, e)], max(rate, 0.0), weight)
+        law[_at(LAW_STRETCH, e)] = s0
+        law[_at(LAW_STRETCH + 1, e)] = s1
+        law[_at(LAW_STRETCH + 2, e)] = s2
+        law[_at(LAW_STRAIN, e)] = -(s0 - 1.0)
+        law[_at(LAW_STRAIN + 1, e)] = -(s1 - 1.0)
+        law[_at(LAW_STRAIN + 2, e)] = -(s2 - 1.0)
+
+
+@nb.njit(error_model="numpy")
+def _block_segments(law: np.ndarray, strains: np.ndarray, count: int) -> None:
+    """Pass 2: each direction's segment of the curve ``strains`` at its compressive strain,
+    :func:`_segment`'s scan one point at a time across the lanes (a lane stops where the scan
+    stops)."""
+    for e in range(EIGEN_LANES):
+        for i in range(3):
+            law[_at(LAW_SEGMENT + i, e)] = 0.0
+    for k in range(count - 2):
+        point = strains[k + 1]
+        for e in range(EIGEN_LANES):
+            for i in range(3):
+                at_k = law[_at(LAW_SEGMENT + i, e)] == k
+                beyond = law[_at(LAW_STRAIN + i, e)] > point
+                law[_at(LAW_SEGMENT + i, e)] += 1.0 if at_k and beyond else 0.0
+
+
+@nb.njit
+def _block_knots(law: np.ndarray, strains: np.ndarray, stresses: np.ndarray,
+                 energies: np.ndarray) -> None:  # fmt: skip
+    """Pass 2b, one lane at a time (indexed loads): each direction's segment into the LAW_KNOT
+    rows, so that the passes that use them vectorise."""
+    for e in range(EIGEN_LANES):
+        for i in range(3):
+            k = _index(law, LAW_SEGMENT + i, e)
+            above = k + np.uint64(1)
+            row = LAW_KNOT + 5 * i
+            law[_at(row + K_STRAIN, e)] = strains[k]
+            law[_at(row + K_NEXT_STRAIN, e)] = strains[above]
+            law[_at(row + K_STRESS, e)] = stresses[k]
+            law[_at(row + K_NEXT_STRESS, e)] = stresses[above]
+            law[_at(row + K_ENERGY, e)] = energies[k]
+
+
+@nb.njit(inline="always")
+def _knot_slope(law: np.ndarray, e: int, i: int) -> float:
+    """The slope of direction i's segment (:func:`_segment_slope` of the LAW_KNOT rows)."""
+    row = LAW_KNOT + 5 * i
+    rise = law[_at(row + K_NEXT_STRESS, e)] - law[_at(row + K_STRESS, e)]
+    return rise / (law[_at(row + K_NEXT_STRAIN, e)] - law[_at(row + K_STRAIN, e)])
+
+
+@nb.njit(error_model="numpy")
+def _block_energy(law: np.ndarray, table: tuple[np.ndarray, ...]) -> None:
+    """Pass 3: W on the first loading curve and in tension, and whether it is loading."""
+    params = table[0]
+    young, cutoff = params[P_E], params[P_TC]
+    for e in range(EIGEN_LANES):
+        w = 0.0
+        for i in range(3):
+            s = law[_at(LAW_STRAIN + i, e)]
+            row = LAW_KNOT + 5 * i
+            d = s - law[_at(row + K_STRAIN, e)]
+            curve = (law[_at(row + K_ENERGY, e)] + law[_at(row + K_STRESS, e)] * d
+                     + 0.5 * _knot_slope(law, e, i) * d * d)  # fmt: skip
+            tension = tension_stress_energy(-s, young, cutoff)[1]
+            w += curve if -s < 0.0 else tension
+        law[_at(LAW_ENERGY, e)] = w
+        law[_at(LAW_LOADING, e)] = 1.0 if w >= law[_at(LAW_WMAX, e)] else 0.0
+
+
+@nb.njit
+def _block_factors(law: np.ndarray, n: int, params: np.ndarray) -> None:
+    """Pass 4, one lane at a time (its powers are library calls): 1 - D and d(1 - D)/dW, and
+    W_max where loading."""
+    hu, shape = params[P_HU], params[P_SHAPE]
+    for e in range(n):
+        w, w_max = law[_at(LAW_ENERGY, e)], law[_at(LAW_WMAX, e)]
+        growth = 0.0
+        if w >= w_max:
+            law[_at(LAW_WMAX, e)] = w
+        elif w > 0.0:
+            growth = (1.0 - hu) * shape * (w / w_max) ** (shape - 1.0) / w_max
+        law[_at(LAW_FACTOR, e)] = hysteresis_factor(w, w_max, hu, shape)
+        law[_at(LAW_GROWTH, e)] = growth
+
+
+@nb.njit(error_model="numpy")
+def _block_rate_curves(law: np.ndarray, table: tuple[np.ndarray, ...]) -> None:
+    """Pass 5 (MAT_083): :func:`rate_curve_stress` of each direction into the LAW_RATED rows,
+    its scans over the rates and each curve's points one step at a time across the lanes."""
+    rates, strains, stresses, counts = table[1], table[2], table[3], table[4]
+    n_rates = rates.shape[0]
+    for e in range(EIGEN_LANES):
+        law[_at(LAW_CURVE + 1, e)] = 0.0
+    for j in range(n_rates - 2):
+        for e in range(EIGEN_LANES):
+            at_j = law[_at(LAW_CURVE + 1, e)] == j
+            law[_at(LAW_CURVE + 1, e)] += (
+                1.0 if at_j and law[_at(LAW_RATE, e)] > rates[j + 1] else 0.0
+            )
+    for e in range(EIGEN_LANES):
+        rate = law[_at(LAW_RATE, e)]
+        low = rate <= rates[0] or n_rates == 1
+        high = rate >= rates[n_rates - 1]
+        law[_at(LAW_CURVE, e)] = (
+            0.0 if low else (n_rates - 1.0 if high else law[_at(LAW_CURVE + 1, e)])
+        )
+        for c in range(6):
+            law[_at(LAW_CURVE_SEGMENT + c, e)] = 0.0
+    for k in range(counts.max() - 2):
+        for e in range(EIGEN_LANES):
+            for c in range(2):
+                # the lower curve, then j + 1 (the last where there is one curve)
+                curve = min(int(law[_at(LAW_CURVE + c, e)]) + c, n_rates - 1)
+                running = k < counts[curve] - 2
+                for i in range(3):
+                    row = LAW_CURVE_SEGMENT + 3 * c + i
+                    beyond = law[_at(LAW_STRAIN + i, e)] > strains[curve, k + 1]
+                    law[_at(row, e)] += 1.0 if running and law[_at(row, e)] == k and beyond else 0.0
+    for e in range(EIGEN_LANES):
+        rate = law[_at(LAW_RATE, e)]
+        low = rate <= rates[0] or n_rates == 1
+        high = rate >= rates[n_rates - 1]
+        j = int(law[_at(LAW_CURVE + 1, e)])
+        above_j = min(j + 1, n_rates - 1)  # one curve: j + 1 would be past the table
+        first = int(law[_at(LAW_CURVE, e)])
+        weight = (rate - rates[j]) / (rates[above_j] - rates[j])
+        for i in range(3):
+            s = law[_at(LAW_STRAIN + i, e)]
+            k = int(law[_at(LAW_CURVE_SEGMENT + i, e)])
+            below = stresses[first, k] + _segment_slope(strains[first], stresses[first], k) * (
+                s - strains[first, k]
+            )
+            k = int(law[_at(LAW_CURVE_SEGMENT + 3 + i, e)])
+            above = stresses[above_j, k] + _segment_slope(
+                strains[above_j], stresses[above_j], k
+            ) * (s - strains[above_j, k])
+            mixed = (1.0 - weight) * below + weight * above
+            law[_at(LAW_RATED + i, e)] = below if low or high else mixed
+
+
+@nb.njit(inline="always")
+def _nominal(law, e, i, stretch, rated, factor, growth, young, cutoff):
+    """Direction i's nominal stress and tangent d tau / d e (:func:`principal_nominal_stresses`
+    with its branches as selects)."""
+    strain = stretch - 1.0
+    s = law[_at(LAW_STRAIN + i, e)]
+    row = LAW_KNOT + 5 * i
+    slope = _knot_slope(law, e, i)
+    f = law[_at(row + K_STRESS, e)] + slope * (s - law[_at(row + K_STRAIN, e)])
+    compressed = (
+        (-law[_at(LAW_RATED + i, e)], young)
+        if rated
+        else (-factor * f, factor * slope + growth * f * f)
+    )
+    stretched = (tension_stress_energy(strain, young, cutoff)[0], young)
+    return stretched if strain >= 0.0 else compressed
+
+
+@nb.njit(error_model="numpy")
+def _block_stress(law: np.ndarray, eig: np.ndarray, table: tuple[np.ndarray, ...]) -> None:
+    """Pass 6: the nominal stresses, the largest Cauchy tangent and sigma."""
+    params = table[0]
+    young, cutoff = params[P_E], params[P_TC]
+    mat083 = params[P_KIND] == KIND_MAT083
+    for e in range(EIGEN_LANES):
+        s0, s1, s2 = (law[_at(LAW_STRETCH, e)], law[_at(LAW_STRETCH + 1, e)],
+                      law[_at(LAW_STRETCH + 2, e)])  # fmt: skip
+        factor, growth = law[_at(LAW_FACTOR, e)], law[_at(LAW_GROWTH, e)]
+        rated = mat083 and law[_at(LAW_LOADING, e)] != 0.0
+        jacobian = s0 * s1 * s2
+        tau0, t0 = _nominal(law, e, 0, s0, rated, factor, growth, young, cutoff)
+        tau1, t1 = _nominal(law, e, 1, s1, rated, factor, growth, young, cutoff)
+        tau2, t2 = _nominal(law, e, 2, s2, rated, factor, growth, young, cutoff)
+        tangent = max(0.0, t0 * s0 * s0 / jacobian)
+        tangent = max(tangent, t1 * s1 * s1 / jacobian)
+        tangent = max(tangent, t2 * s2 * s2 / jacobian)
+        cauchy = (tau0 * s0 / jacobian, tau1 * s1 / jacobian, tau2 * s2 / jacobian)
+        for i in range(3):
+            for j in range(3):
+                total = 0.0
+                for k in range(3):
+                    vi = eig[_at(EIGEN_V + 3 * i + k, e)]
+                    vj = eig[_at(EIGEN_V + 3 * j + k, e)]
+                    total += cauchy[k] * vi * vj
+                law[_at(LAW_SIGMA + 3 * i + j, e)] = total
+        law[_at(LAW_TANGENT, e)] = tangent
+
+
+@nb.njit
+def block_principal_stress(
+    law: np.ndarray, eig: np.ndarray, n: int, weight: float, table: tuple[np.ndarray, ...]
+) -> None:
+    """:func:`principal_stress` of lanes 0..n-1 at once, their b decomposed in the eigen block
+    ``eig`` (:func:`block_symmetric_eigen`) and their D, filtered rate and W_max in the rows
+    LAW_D, LAW_RATE and LAW_WMAX of ``law``: sigma into the LAW_SIGMA rows, the tangent into
+    LAW_TANGENT, the new rate and W_max in place. The same operations in the same order for
+    each lane as the one-point routine, the same bits; its branches become selects (both
+    sides computed, one kept) and its curve scans run one point at a time across the lanes, so
+    that the passes vectorise; only the powers of the unloading damage go one lane at a time."""
+    _block_stretches(law, eig, weight)
+    _block_segments(law, table[2][0], table[4][0])
+    _block_knots(law, table[2][0], table[3][0], table[5])
+    _block_energy(law, table)
+    _block_factors(law, n, table[0])
+    if table[0][P_KIND] == KIND_MAT083:
+        _block_rate_curves(law, table)
+    _block_stress(law, eig, table)
