@@ -128,10 +128,12 @@ def symmetric_eigen(a: np.ndarray, v: np.ndarray) -> None:
 #: Points a block of :func:`block_symmetric_eigen` holds (its lanes).
 EIGEN_LANES = 16
 # Rows of its block (each EIGEN_LANES wide): entry (i, j) of the matrix at row 3 i + j, of the
-# eigenvectors at EIGEN_V + 3 i + j, then a lane's "done" flag and its scale. One array, rows a
-# constant EIGEN_LANES apart: LLVM can then prove that the rows do not overlap.
+# eigenvectors at EIGEN_V + 3 i + j, then a lane's "done" flag and its scale, and a rotation's
+# c, s and whether the lane turns. One array, rows a constant EIGEN_LANES apart: LLVM can then
+# prove that the rows do not overlap.
 EIGEN_V, EIGEN_DONE, EIGEN_SCALE = 9, 18, 19
-EIGEN_ROWS = 20
+EIGEN_COS, EIGEN_SIN, EIGEN_TURN = 20, 21, 22
+EIGEN_ROWS = 23
 
 
 @nb.njit
@@ -162,14 +164,20 @@ def _make_block_rotation(p: int, q: int):
 
     @nb.njit(inline="always", error_model="numpy")
     def rotate(w):
+        # the angles first: a loop of independent chains of divisions and square roots, short
+        # enough for the processor to overlap the lanes' chains
         for e in range(EIGEN_LANES):
             apq = w[_at(pq, e)]
             theta = (w[_at(qq, e)] - w[_at(pp, e)]) / (2.0 * apq)
             sign = 1.0 if theta > 0.0 else (-1.0 if theta < 0.0 else theta)  # np.sign
             t = sign / (abs(theta) + np.sqrt(theta * theta + 1.0)) if theta != 0.0 else 1.0
             c = 1.0 / np.sqrt(t * t + 1.0)
-            s = t * c
-            turn = w[_at(EIGEN_DONE, e)] == 0.0 and apq != 0.0
+            w[_at(EIGEN_COS, e)] = c
+            w[_at(EIGEN_SIN, e)] = t * c
+            w[_at(EIGEN_TURN, e)] = 1.0 if w[_at(EIGEN_DONE, e)] == 0.0 and apq != 0.0 else 0.0
+        for e in range(EIGEN_LANES):
+            c, s = w[_at(EIGEN_COS, e)], w[_at(EIGEN_SIN, e)]
+            turn = w[_at(EIGEN_TURN, e)] != 0.0
             _turn(w, p, q, e, c, s, turn)  # columns p, q of rows 0, 1, 2
             _turn(w, 3 + p, 3 + q, e, c, s, turn)
             _turn(w, 6 + p, 6 + q, e, c, s, turn)
