@@ -1,11 +1,13 @@
 """Hex8 force kernel alone: element-cycles per second on the 12,096-hex ball.
 
-Builds the type 1, 95 mph CCOR model, runs a few dozen explicit cycles so that the stresses and
-hourglass forces are non-trivial, then times ``compute_hex8_forces`` alone (after a warm-up call;
-the median and the best of several repeats) with 1 thread and with 2 (or every) threads. Usage:
+Builds the 95 mph CCOR model of a ball (type 1, MAT_006, by default), runs a few dozen explicit
+cycles so that the stresses and hourglass forces are non-trivial, then times the ball's element
+kernel alone (after a warm-up call; the median and the best of several repeats) with 1 thread and
+with 2 (or every) threads: ``compute_hex8_forces``, or for a foam ball (``--ball type1-fit``, the
+model of record's) the foam kernel (``hex8_foam``, always double precision). Usage:
 
-    python benchmarks/bench_hex8_kernel.py [--precision single] [--hourglass 1] [--cycles 50]
-        [--calls 50] [--repeats 11]
+    python benchmarks/bench_hex8_kernel.py [--ball type1] [--precision single] [--hourglass 1]
+        [--cycles 50] [--calls 50] [--repeats 11]
 """
 
 from __future__ import annotations
@@ -18,17 +20,20 @@ from collections.abc import Callable
 import numba
 
 from batball.elements.hex8 import compute_hex8_forces
+from batball.elements.hex8_foam import foam_element_forces
 from batball.models.impact import ImpactSetup, build_impact_model
 from batball.solvers.explicit import ExplicitControls, ExplicitSolver, HourglassControl
 from batball.specs import load_ball_spec
 from batball.units import MPH
 
 
-def loaded_solver(hourglass: int, cycles: int, precision: str = "single") -> ExplicitSolver:
-    """The 95 mph CCOR solver after ``cycles`` explicit cycles, its element arithmetic in
-    ``precision`` (single, as the CCOR test runs by default)."""
+def loaded_solver(
+    hourglass: int, cycles: int, precision: str = "single", ball: str = "type1"
+) -> ExplicitSolver:
+    """The 95 mph CCOR solver of ``ball`` after ``cycles`` explicit cycles, its element
+    arithmetic in ``precision`` (single, as the CCOR test runs by default; a foam's is double)."""
     setup = ImpactSetup(test="ccor", speed=95 * MPH, divisions=12)  # 12,096 hexes
-    model = build_impact_model(load_ball_spec("type1"), setup)
+    model = build_impact_model(load_ball_spec(ball), setup)
     controls = ExplicitControls(
         end_time=1e-3, hourglass=HourglassControl(type=hourglass), precision=precision
     )
@@ -41,6 +46,13 @@ def loaded_solver(hourglass: int, cycles: int, precision: str = "single") -> Exp
 def kernel_call(solver: ExplicitSolver) -> Callable[[], None]:
     """One call of the kernel on the solver's arrays (as ``ExplicitSolver.element_forces``)."""
     s, w, m, c = solver.state, solver.work, solver.model, solver.controls.hourglass
+
+    if m.foam is not None:
+
+        def foam_call() -> None:
+            foam_element_forces(m, s.points, s.velocities, s.dt, w, s.foam_history, s.hg_state, c)
+
+        return foam_call
 
     def call() -> None:
         compute_hex8_forces(
@@ -66,20 +78,22 @@ def seconds_per_call(call: Callable[[], None], calls: int, repeats: int) -> list
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--ball", default="type1", help="a ball spec (type1-fit: a foam)")
     parser.add_argument("--hourglass", type=int, default=1, help="LS-DYNA IHQ (1, 2 or 4)")
     parser.add_argument("--cycles", type=int, default=50)
     parser.add_argument("--calls", type=int, default=50)
     parser.add_argument("--repeats", type=int, default=11)
     parser.add_argument("--precision", choices=("single", "double"), default="single")
     args = parser.parse_args()
-    solver = loaded_solver(args.hourglass, args.cycles, args.precision)
+    solver = loaded_solver(args.hourglass, args.cycles, args.precision, args.ball)
+    label = f"{args.ball}, " + ("foam" if solver.model.foam is not None else args.precision)
     n_cells = solver.model.mesh.n_cells
     call = kernel_call(solver)
     for threads in sorted({1, min(2, numba.config.NUMBA_NUM_THREADS), numba.get_num_threads()}):
         numba.set_num_threads(threads)
         times = seconds_per_call(call, args.calls, args.repeats)
         median, best = statistics.median(times), min(times)
-        print(f"{args.precision}, IHQ {args.hourglass}, threads {threads}: {n_cells} hexes, "
+        print(f"{label}, IHQ {args.hourglass}, threads {threads}: {n_cells} hexes, "
               f"{median * 1e3:.3f} ms per call (median of {args.repeats} x {args.calls} calls): "
               f"{n_cells / median / 1e6:.2f} M element-cycles/s "
               f"(best {n_cells / best / 1e6:.2f})")  # fmt: skip
