@@ -70,27 +70,15 @@ def _one_point(b, vectors, d, rate, w_max, table):
     return scratch[3].reshape(9).copy(), tangent, history[H_RATE], history[H_WMAX]
 
 
-@pytest.mark.parametrize(
-    ("name", "changes"),
-    [("type1-fit", {}), ("foam057", {}), ("foam083", {}), ("foam083", {"rate_filter": 1e9})],
-)
-@pytest.mark.parametrize("lanes", [1, 7, EIGEN_LANES])
-def test_a_block_gives_each_point_the_bits_of_one_at_a_time(
-    name: str, changes: dict[str, float], lanes: int
-) -> None:
-    """Each lane does the one-point law's operations in the same order (its branches as
-    selects, its curve scans a point at a time across the lanes; no fast-math in either), so
-    sigma, the tangent, the filtered rate and W_max agree bit for bit. The points cover both
-    sides of every branch: tension below and above TC, compression on and past the curve,
-    loading and unloading, and (MAT_083) rates below, between and above the rate curves."""
-    # a tension cut-off that the stretched points pass (the example balls' is out of reach)
-    table = _material(name, tension_cutoff=1e6, **changes).foam_table().arrays()
-    b, d, rate, w_max = _points(np.random.default_rng(3))
+def _run(table, b, d, rate, w_max, lanes):
+    """The block law over consecutive groups of ``lanes`` points (the rest of a block holds
+    what the previous group left there, as in the kernel): the points whose results differ
+    from the one-point law's in any bit, how many unloaded, and the filtered rates."""
     eig, law = eigen_block(), law_block()
     eig_rows, law_rows = eig.reshape(-1, EIGEN_LANES), law.reshape(-1, EIGEN_LANES)
     mismatched, unloading, rates_seen = [], 0, []
-    for start in range(0, N_POINTS, lanes):
-        n = min(lanes, N_POINTS - start)
+    for start in range(0, len(b), lanes):
+        n = min(lanes, len(b) - start)
         points = slice(start, start + n)
         eig_rows[:9, :n] = b[points].reshape(n, 9).T
         block_symmetric_eigen(eig, n)
@@ -111,6 +99,26 @@ def test_a_block_gives_each_point_the_bits_of_one_at_a_time(
                 mismatched.append(start + lane)
         unloading += int(np.sum(law_rows[LAW_LOADING, :n] == 0.0))
         rates_seen.extend(law_rows[LAW_RATE, :n])
+    return mismatched, unloading, np.array(rates_seen)
+
+
+MATERIALS = [("type1-fit", {}), ("foam057", {}), ("foam083", {}), ("foam083", {"rate_filter": 1e9})]
+
+
+@pytest.mark.parametrize(("name", "changes"), MATERIALS)
+@pytest.mark.parametrize("lanes", [1, 7, EIGEN_LANES])
+def test_a_block_gives_each_point_the_bits_of_one_at_a_time(
+    name: str, changes: dict[str, float], lanes: int
+) -> None:
+    """Each lane does the one-point law's operations in the same order (its branches as
+    selects, its curve scans a point at a time across the lanes; no fast-math in either), so
+    sigma, the tangent, the filtered rate and W_max agree bit for bit. The points cover both
+    sides of every branch: tension below and above TC, compression on and past the curve,
+    loading and unloading, and (MAT_083) rates below, between and above the rate curves."""
+    # a tension cut-off that the stretched points pass (the example balls' is out of reach)
+    table = _material(name, tension_cutoff=1e6, **changes).foam_table().arrays()
+    b, d, rate, w_max = _points(np.random.default_rng(3))
+    mismatched, unloading, rates_seen = _run(table, b, d, rate, w_max, lanes)
     assert mismatched == []
     # the inputs reach both sides of the branches
     strains = np.sqrt(np.linalg.eigvalsh(b)) - 1.0
@@ -120,5 +128,23 @@ def test_a_block_gives_each_point_the_bits_of_one_at_a_time(
     assert 10 < unloading < N_POINTS - 10
     curve_rates = table[1]
     if len(curve_rates) > 1 and changes:
-        between = (np.array(rates_seen) > curve_rates[0]) & (np.array(rates_seen) < curve_rates[-1])
-        assert np.sum(between) > 10 and np.sum(np.array(rates_seen) >= curve_rates[-1]) > 0
+        between = (rates_seen > curve_rates[0]) & (rates_seen < curve_rates[-1])
+        assert np.sum(between) > 10 and np.sum(rates_seen >= curve_rates[-1]) > 0
+
+
+@pytest.mark.parametrize(("name", "changes"), MATERIALS)
+def test_a_failing_point_gives_the_one_point_bits_too(name: str, changes: dict[str, float]) -> None:
+    """NaN and infinite input (a run going unstable) gives each lane what the one-point law
+    gives, NaN included, so the solver's checks see the same values; the block's curve and
+    rate indices are counts of comparisons, so they stay inside the tables."""
+    table = _material(name, **changes).foam_table().arrays()
+    rng = np.random.default_rng(5)
+    b, d, rate, w_max = (x[:64] for x in _points(rng))
+    b[0:4] = np.nan
+    b[4:8, 0, 0] = np.inf
+    b[8:12, 1, 1] = -1.0
+    d[12:20] = np.nan
+    rate[20:28] = np.nan
+    rate[28:32] = np.inf
+    w_max[32:40] = np.nan
+    assert _run(table, b, d, rate, w_max, EIGEN_LANES)[0] == []
