@@ -47,11 +47,23 @@ def _segment_slope(strains: np.ndarray, stresses: np.ndarray, k: int) -> float:
 
 
 @nb.njit(inline="always")
+def _segment_stress(strains: np.ndarray, stresses: np.ndarray, k: int, s: float) -> float:
+    """The stress at strain s on the line of segment k of a curve [Pa]."""
+    return stresses[k] + _segment_slope(strains, stresses, k) * (s - strains[k])
+
+
+@nb.njit(inline="always")
 def curve_stress(strains: np.ndarray, stresses: np.ndarray, count: int, s: float) -> float:
     """Loading-curve stress at compressive strain s >= 0 [Pa]: linear between points, extended
     with the last segment's slope beyond the last point (LS-DYNA's curve extrapolation)."""
-    k = _segment(strains, count, s)
-    return stresses[k] + _segment_slope(strains, stresses, k) * (s - strains[k])
+    return _segment_stress(strains, stresses, _segment(strains, count, s), s)
+
+
+@nb.njit(inline="always")
+def _rate_outside(rates: np.ndarray, rate: float) -> tuple[bool, bool]:
+    """Whether ``rate`` is at or below MAT_083's first curve's rate (or there is one curve),
+    and whether it is at or above the last's: there the first or last curve alone applies."""
+    return rate <= rates[0] or rates.shape[0] == 1, rate >= rates[rates.shape[0] - 1]
 
 
 @nb.njit(inline="always")
@@ -76,9 +88,10 @@ def rate_curve_stress(
     """MAT_083's table: the stress at strain s, linear in the rate between the two curves that
     bracket ``rate``; the first curve below the lowest rate, the last above the highest."""
     n = rates.shape[0]
-    if rate <= rates[0] or n == 1:
+    slowest, fastest = _rate_outside(rates, rate)
+    if slowest:
         return curve_stress(strains[0], stresses[0], counts[0], s)
-    if rate >= rates[n - 1]:
+    if fastest:
         return curve_stress(strains[n - 1], stresses[n - 1], counts[n - 1], s)
     j = 0
     while rate > rates[j + 1]:
@@ -583,9 +596,7 @@ def _block_rate_curves(law: np.ndarray, table: tuple[np.ndarray, ...]) -> None:
                 1.0 if at_j and law[_at(LAW_RATE, e)] > rates[j + 1] else 0.0
             )
     for e in range(EIGEN_LANES):
-        rate = law[_at(LAW_RATE, e)]
-        low = rate <= rates[0] or n_rates == 1
-        high = rate >= rates[n_rates - 1]
+        low, high = _rate_outside(rates, law[_at(LAW_RATE, e)])
         law[_at(LAW_CURVE, e)] = (
             0.0 if low else (n_rates - 1.0 if high else law[_at(LAW_CURVE + 1, e)])
         )
@@ -603,8 +614,7 @@ def _block_rate_curves(law: np.ndarray, table: tuple[np.ndarray, ...]) -> None:
                     law[_at(row, e)] += 1.0 if running and law[_at(row, e)] == k and beyond else 0.0
     for e in range(EIGEN_LANES):
         rate = law[_at(LAW_RATE, e)]
-        low = rate <= rates[0] or n_rates == 1
-        high = rate >= rates[n_rates - 1]
+        low, high = _rate_outside(rates, rate)
         j = int(law[_at(LAW_CURVE + 1, e)])
         above_j = min(j + 1, n_rates - 1)  # one curve: j + 1 would be past the table
         first = int(law[_at(LAW_CURVE, e)])
@@ -612,13 +622,9 @@ def _block_rate_curves(law: np.ndarray, table: tuple[np.ndarray, ...]) -> None:
         for i in range(3):
             s = law[_at(LAW_STRAIN + i, e)]
             k = int(law[_at(LAW_CURVE_SEGMENT + i, e)])
-            below = stresses[first, k] + _segment_slope(strains[first], stresses[first], k) * (
-                s - strains[first, k]
-            )
+            below = _segment_stress(strains[first], stresses[first], k, s)
             k = int(law[_at(LAW_CURVE_SEGMENT + 3 + i, e)])
-            above = stresses[above_j, k] + _segment_slope(
-                strains[above_j], stresses[above_j], k
-            ) * (s - strains[above_j, k])
+            above = _segment_stress(strains[above_j], stresses[above_j], k, s)
             mixed = (1.0 - weight) * below + weight * above
             law[_at(LAW_RATED + i, e)] = below if low or high else mixed
 
