@@ -18,7 +18,8 @@ What: the arithmetic one element does in one explicit cycle in
   ``benchmarks/bench_bbs_cycles.py`` runs it by default (the batted-ball-speed test's shell):
   the nodal rotations, each cell's deformation, K0 d, the moment balance, the turn to global axes
   and the gather into the nodes (counted after the kernel was fused into chunks, the commit that
-  added it to this file; the hex and BT counts are from 313b674).
+  added it to this file; K0 d recounted on 2026-11-30 when the product began to skip K0's
+  blocks of zeros; the hex and BT counts are from 313b674).
 
 When: 2026-11-29, hand counts from the source at commit 313b674 (``git rev-parse --short HEAD``;
 the counted files had no uncommitted changes).
@@ -251,8 +252,10 @@ MITC4_SHELL: dict[str, int] = {
     "deformation": 544,
     # rotation_vectors, per corner (x4): |s|^2 5, the series 6, s times it 3
     "rotation vectors": 56,
-    # local_product: f = K0 d, 24 x 24 multiply-adds
-    "local forces K0 d": 1152,
+    # local_product: f = K0 d, the 26 of 36 4 x 4 blocks of K0 that are not all zero (w
+    # couples with neither u, v nor theta_z, theta_z with neither w nor theta_x, theta_y: the
+    # same 26 in every kind of cell of the default bat), 26 x 16 multiply-adds
+    "local forces K0 d": 832,
     # balance_moment: moment and J (x4) 38, adjugate 18, determinant 5, couple 15, w x p (x4) 15
     "moment balance": 250,
     # chunk_forces: E^T g for the 8 triples of a cell

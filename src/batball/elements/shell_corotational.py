@@ -122,8 +122,9 @@ CHUNK = 64
 # arrays, row r of column col at [r * CHUNK + col], the rows constant: LLVM then sees that the
 # loops over the columns carry no dependence and vectorises them): the corners' reference
 # positions in the undeformed frame, the current frame E's rows, the corners' cosines, the 24
-# deformational dofs (corner a's displacements at rows 6a..6a+2, rotations at 6a+3..6a+5; later
-# the global forces), the 24 local forces, and the corners' squared sines. Before the local
+# deformational dofs (dof k of corner a at row W_D + dof(a, k), k = 0..2 the displacements, 3..5
+# the rotations; later the global forces), the 24 local forces (alike from W_F), and the
+# corners' squared sines. Before the local
 # forces are made, the rows from W_F on hold what the cells' corners are gathered into: corner
 # a's current coordinate k at row W_X + 3 a + k and its total rotation's entry (i, j) at row
 # W_R + 9 a + 3 i + j.
@@ -132,6 +133,34 @@ W_X, W_R, W_ROWS = 49, 61, 97
 #: Rows of a chunk's constants (``CorotationalShellForces.constants``): the undeformed frame E0
 #: (row-major) and the corners' reference positions, one column per cell.
 C_FRAME0, C_REF, C_ROWS = 0, 9, 21
+
+
+#: The group of each of a corner's dofs k = 0..5 (u, v, w, theta_x, theta_y, theta_z in the
+#: cell's frame) in the work array's 24 dof rows: the membrane translations u of the four
+#: corners first, then v, the bending rotations theta_x and theta_y, the normal translations w,
+#: the drilling rotations theta_z (:func:`dof`). In that order the MITC4 K0 has whole 4 x 4
+#: blocks of zeros, which :func:`local_product` skips: w couples with neither u, v nor theta_z,
+#: theta_z with neither w nor theta_x, theta_y (10 of the 36 blocks).
+DOF_GROUP = (0, 1, 4, 2, 3, 5)
+
+
+@nb.njit(inline="always")
+def dof(a: int, k: int) -> int:
+    """The row of dof ``k`` (0..5) of corner ``a`` among the work array's 24 dof rows."""
+    group = 4 if k == 2 else (k - 1 if k == 3 or k == 4 else k)  # DOF_GROUP[k]
+    return 4 * group + a
+
+
+#: PRODUCT_ORDER[r] = 6 a + k, the element dof (corner a, dof k) at dof row r.
+PRODUCT_ORDER = np.argsort([4 * DOF_GROUP[k] + a for a in range(4) for k in range(6)])
+
+
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def load_dofs(w: np.ndarray, base: int, a: int, k: int, col: int) -> Vec3:
+    """Dofs ``k`` to ``k + 2`` of corner ``a`` of column ``col``, of the 24 dof rows from row
+    ``base`` (W_D or W_F)."""
+    return (w[(base + dof(a, k)) * CHUNK + col], w[(base + dof(a, k + 1)) * CHUNK + col],
+            w[(base + dof(a, k + 2)) * CHUNK + col])
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -204,18 +233,18 @@ def corner_deformation(frame: tuple, m: Vec3, frame0: tuple, constants: np.ndarr
     p = (x[0] - m[0], x[1] - m[1], x[2] - m[2])
     for k in range(3):
         w[(W_REF + 3 * a + k) * CHUNK + col] = ref[k]
-    w[(W_D + 6 * a) * CHUNK + col] = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2] - ref[0]
-    w[(W_D + 6 * a + 1) * CHUNK + col] = e2[0] * p[0] + e2[1] * p[1] + e2[2] * p[2] - ref[1]
-    w[(W_D + 6 * a + 2) * CHUNK + col] = e3[0] * p[0] + e3[1] * p[1] + e3[2] * p[2] - ref[2]
+    w[(W_D + dof(a, 0)) * CHUNK + col] = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2] - ref[0]
+    w[(W_D + dof(a, 1)) * CHUNK + col] = e2[0] * p[0] + e2[1] * p[1] + e2[2] * p[2] - ref[1]
+    w[(W_D + dof(a, 2)) * CHUNK + col] = e3[0] * p[0] + e3[1] * p[1] + e3[2] * p[2] - ref[2]
     # the corner's rotation in the frames, E R_a E0^T, row by row
     r0 = frame_row_times(e1, w, a, col)
     r1 = frame_row_times(e2, w, a, col)
     r2 = frame_row_times(e3, w, a, col)
     m01, m02, m10 = dot3(r0, f1), dot3(r0, f2), dot3(r1, f0)
     m12, m20, m21 = dot3(r1, f2), dot3(r2, f0), dot3(r2, f1)
-    w[(W_D + 6 * a + 3) * CHUNK + col] = 0.5 * (m21 - m12)
-    w[(W_D + 6 * a + 4) * CHUNK + col] = 0.5 * (m02 - m20)
-    w[(W_D + 6 * a + 5) * CHUNK + col] = 0.5 * (m10 - m01)
+    w[(W_D + dof(a, 3)) * CHUNK + col] = 0.5 * (m21 - m12)
+    w[(W_D + dof(a, 4)) * CHUNK + col] = 0.5 * (m02 - m20)
+    w[(W_D + dof(a, 5)) * CHUNK + col] = 0.5 * (m10 - m01)
     w[(W_COS + a) * CHUNK + col] = 0.5 * (dot3(r0, f0) + dot3(r1, f1) + dot3(r2, f2) - 1.0)
 
 
@@ -227,38 +256,48 @@ SERIES_SINE2 = 1e-4
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def rotation_vectors(w: np.ndarray, n: int) -> None:
     """The corners' rotation vectors (axis times angle, an exact logarithm) in the work array's
-    rotation rows (W_D + 6a + 3..5), from the sine vectors s there and the cosines: s times
+    rotation rows (dofs 3..5 of corner a), from the sine vectors s there and the cosines: s times
     angle / |s|. The series is taken over all CHUNK columns at once (the SIMD loop); the few
     corners with a larger angle, among the first ``n`` columns, are then redone with atan2."""
     for col in range(CHUNK):
         for a in range(4):
-            s = load3(w, W_D + 6 * a + 3, col)
+            s = load_dofs(w, W_D, a, 3, col)
             sine2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2]
             series = 1.0 + sine2 * (1.0 / 6.0 + sine2 * (3.0 / 40.0 + sine2 * (5.0 / 112.0)))
             small = sine2 < SERIES_SINE2 and w[(W_COS + a) * CHUNK + col] > 0.0
             factor = series if small else 1.0
             w[(W_SINE2 + a) * CHUNK + col] = sine2  # the test below is this one's
             for k in range(3):
-                w[(W_D + 6 * a + 3 + k) * CHUNK + col] = factor * s[k]
+                w[(W_D + dof(a, 3 + k)) * CHUNK + col] = factor * s[k]
     for col in range(n):
         for a in range(4):
             sine2, cosine = w[(W_SINE2 + a) * CHUNK + col], w[(W_COS + a) * CHUNK + col]
             if sine2 < SERIES_SINE2 and cosine > 0.0:
                 continue  # scaled by the series above
-            s = load3(w, W_D + 6 * a + 3, col)  # not scaled (factor 1 above)
+            s = load_dofs(w, W_D, a, 3, col)  # not scaled (factor 1 above)
             sine = np.sqrt(sine2)
             factor = np.arctan2(sine, cosine) / sine
             for k in range(3):
-                w[(W_D + 6 * a + 3 + k) * CHUNK + col] = factor * s[k]
+                w[(W_D + dof(a, 3 + k)) * CHUNK + col] = factor * s[k]
+
+
+def product_blocks(stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each kind's K0 (n_kinds, 24, 24) in the order of the work array's dof rows
+    (:data:`PRODUCT_ORDER`), and which of its 4 x 4 blocks
+    hold a non-zero entry, (n_kinds, 6, 6) (uint8): the blocks :func:`local_product` sweeps."""
+    ordered = np.ascontiguousarray(stiffness[:, PRODUCT_ORDER][:, :, PRODUCT_ORDER])
+    nonzero = (ordered != 0.0).reshape(-1, 6, 4, 6, 4).any(axis=(2, 4))
+    return ordered, nonzero.astype(np.uint8)
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
-def local_product(stiffness: np.ndarray, w: np.ndarray) -> None:
-    """f = K d, ``stiffness`` K (24, 24), on the work array's rows: a 4 x 4 block of K at a time
-    swept across all CHUNK columns (a constant trip count; each loaded column of d serves four
-    rows of f, each loaded column of f four of d: 2.3 times the speed of a row at a time, the
-    SIMD loop near the machine's multiply-add rate). Each sum still runs over j in order, so
-    the blocking changes no bits."""
+def local_product(stiffness: np.ndarray, nonzero: np.ndarray, w: np.ndarray) -> None:
+    """f = K d on the work array's dof rows, K (24, 24) in their order (:data:`DOF_GROUP`) and
+    ``nonzero`` (6, 6) its 4 x 4 blocks that are not all zero (:func:`product_blocks`): a block
+    at a time swept across all CHUNK columns (a constant trip count; each loaded column of d
+    serves four rows of f, each loaded column of f four of d: 2.3 times the speed of a row at a
+    time, the SIMD loop near the machine's multiply-add rate), the blocks of zeros skipped. Each
+    sum runs over the dof rows in order."""
     for i in range(0, 24, 4):
         f0, f1 = (W_F + i) * CHUNK, (W_F + i + 1) * CHUNK
         f2, f3 = (W_F + i + 2) * CHUNK, (W_F + i + 3) * CHUNK
@@ -268,6 +307,8 @@ def local_product(stiffness: np.ndarray, w: np.ndarray) -> None:
             w[f2 + col] = 0.0
             w[f3 + col] = 0.0
         for j in range(0, 24, 4):
+            if nonzero[i // 4, j // 4] == 0:
+                continue
             d0, d1 = (W_D + j) * CHUNK, (W_D + j + 1) * CHUNK
             d2, d3 = (W_D + j + 2) * CHUNK, (W_D + j + 3) * CHUNK
             k00, k01, k02, k03 = stiffness[i, j], stiffness[i, j + 1], stiffness[i, j + 2], \
@@ -294,10 +335,10 @@ def balance_moment(w: np.ndarray, col: int) -> None:
     mx = my = mz = 0.0
     j00 = j11 = j22 = j01 = j02 = j12 = 0.0
     for a in range(4):
-        ref, u = load3(w, W_REF + 3 * a, col), load3(w, W_D + 6 * a, col)
+        ref, u = load3(w, W_REF + 3 * a, col), load_dofs(w, W_D, a, 0, col)
         p = (ref[0] + u[0], ref[1] + u[1], ref[2] + u[2])
-        t = cross(p, load3(w, W_F + 6 * a, col))
-        rotational = load3(w, W_F + 6 * a + 3, col)
+        t = cross(p, load_dofs(w, W_F, a, 0, col))
+        rotational = load_dofs(w, W_F, a, 3, col)
         mx += t[0] + rotational[0]
         my += t[1] + rotational[1]
         mz += t[2] + rotational[2]
@@ -315,10 +356,10 @@ def balance_moment(w: np.ndarray, col: int) -> None:
     couple = (-(a00 * mx + a01 * my + a02 * mz) / det, -(a01 * mx + a11 * my + a12 * mz) / det,
               -(a02 * mx + a12 * my + a22 * mz) / det)  # fmt: skip
     for a in range(4):
-        ref, u = load3(w, W_REF + 3 * a, col), load3(w, W_D + 6 * a, col)
+        ref, u = load3(w, W_REF + 3 * a, col), load_dofs(w, W_D, a, 0, col)
         t = cross(couple, (ref[0] + u[0], ref[1] + u[1], ref[2] + u[2]))
         for k in range(3):
-            w[(W_F + 6 * a + k) * CHUNK + col] += t[k]
+            w[(W_F + dof(a, k)) * CHUNK + col] += t[k]
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -336,24 +377,24 @@ def scatter_chunk(w: np.ndarray, cells: np.ndarray, first: int, stop: int, run: 
         c = first + col
         for a in range(4):
             n = cells[c, a]
-            row = (W_D + 6 * a) * CHUNK + col
             if first_chunk[n] < begin or last_chunk[n] >= end:
                 for k in range(6):
-                    shared[(6 * a + k) * CHUNK + col] = w[row + k * CHUNK]
+                    shared[(6 * a + k) * CHUNK + col] = w[(W_D + dof(a, k)) * CHUNK + col]
             elif first_corner[n] == 4 * c + a:
                 for k in range(6):
-                    out[n, k] = 0.0 - w[row + k * CHUNK]
+                    out[n, k] = 0.0 - w[(W_D + dof(a, k)) * CHUNK + col]
             else:
                 for k in range(6):
-                    out[n, k] -= w[row + k * CHUNK]
+                    out[n, k] -= w[(W_D + dof(a, k)) * CHUNK + col]
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
-                 constants: np.ndarray, stiffness: np.ndarray, first: int, stop: int,
-                 run: tuple, corners: tuple, shared: np.ndarray,
+                 constants: np.ndarray, stiffness: np.ndarray, nonzero: np.ndarray,
+                 first: int, stop: int, run: tuple, corners: tuple, shared: np.ndarray,
                  out: np.ndarray) -> None:  # fmt: skip
-    """Cells ``first`` to ``stop`` (at most CHUNK, sharing ``stiffness`` (24, 24)): their
+    """Cells ``first`` to ``stop`` (at most CHUNK, sharing ``stiffness`` (24, 24) and its
+    ``nonzero`` blocks, :func:`product_blocks`): their
     corner forces and moments in global axes, into their nodes (:func:`scatter_chunk`). Every
     step but the scatter is a loop over all CHUNK columns of the chunk's work array (in cache
     from one step to the next), the columns past the last cell repeating it; all but the
@@ -365,15 +406,17 @@ def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
     for col in range(CHUNK):
         deformation(constants, w, col)
     rotation_vectors(w, stop - first)
-    local_product(stiffness, w)
+    local_product(stiffness, nonzero, w)
     for col in range(CHUNK):
         balance_moment(w, col)
         e1, e2 = load3(w, W_FRAME, col), load3(w, W_FRAME + 3, col)
         e3 = load3(w, W_FRAME + 6, col)
-        for k in range(0, 24, 3):  # each corner's forces and moments alike: E^T g, in d's rows
-            g = load3(w, W_F + k, col)
-            for i in range(3):
-                w[(W_D + k + i) * CHUNK + col] = e1[i] * g[0] + e2[i] * g[1] + e3[i] * g[2]
+        for a in range(4):  # each corner's forces and moments alike: E^T g, in d's rows
+            for b in range(0, 6, 3):
+                g = load_dofs(w, W_F, a, b, col)
+                for i in range(3):
+                    w[(W_D + dof(a, b + i)) * CHUNK + col] = \
+                        e1[i] * g[0] + e2[i] * g[1] + e3[i] * g[2]
     scatter_chunk(w, cells, first, stop, run, corners, shared, out)
 
 
@@ -397,14 +440,15 @@ def gather_node(n: int, corner_start: np.ndarray, corner_slot: np.ndarray, flat:
 
 @nb.njit(parallel=True, cache=True)
 def cell_and_node_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
-                         constants: np.ndarray, stiffness: np.ndarray, chunks: tuple,
+                         constants: np.ndarray, product: tuple, chunks: tuple,
                          corners: tuple, shared: np.ndarray, out: np.ndarray,
                          n_runs: int) -> None:  # fmt: skip
     """The nodes' forces, minus the sums of their cells' corner forces, into ``out``
     (n_points, 6).
 
-    ``chunks`` (chunk_start, (n_chunks + 1,); chunk_kind, (n_chunks,)) are the tasks, a chunk
-    of cells of one kind each, with their ``constants`` (n_chunks, C_ROWS * CHUNK); ``corners``
+    ``product`` is each kind's K0 as :func:`product_blocks` gives it; ``chunks`` (chunk_start,
+    (n_chunks + 1,); chunk_kind, (n_chunks,)) are the tasks, a chunk of cells of one kind
+    each, with their ``constants`` (n_chunks, C_ROWS * CHUNK); ``corners``
     (:func:`node_corners`) where each node's corners are. The chunks run in one parallel loop,
     in ``n_runs`` runs of consecutive chunks (one a thread; the caller passes
     :func:`numba.get_num_threads`: a kernel that calls it is not cached). A run adds each
@@ -414,15 +458,17 @@ def cell_and_node_forces(points: np.ndarray, cells: np.ndarray, rotations: np.nd
     its corners in cell order, so the forces are the same on any number of threads.
     """
     chunk_start, chunk_kind = chunks
+    stiffness, nonzero = product
     corner_start, corner_slot, node_start, nodes, first_chunk = corners[:5]
     n_chunks = chunk_kind.shape[0]
     n_runs = max(1, min(n_runs, n_chunks))
     for run in nb.prange(n_runs):
         begin, end = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
         for t in range(begin, end):
-            chunk_forces(points, cells, rotations, constants[t], stiffness[chunk_kind[t]],
-                         chunk_start[t], chunk_start[t + 1], (begin, end), corners, shared[t],
-                         out)  # fmt: skip
+            kind = chunk_kind[t]
+            chunk_forces(points, cells, rotations, constants[t], stiffness[kind],
+                         nonzero[kind], chunk_start[t], chunk_start[t + 1], (begin, end),
+                         corners, shared[t], out)  # fmt: skip
     flat = shared.ravel()
     for run in range(n_runs):  # the nodes two runs share, and those of no cell
         begin, end = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
@@ -537,6 +583,7 @@ class CorotationalShellForces:
                                                           section.rotary_inertia)))  # fmt: skip
         stiffness = local_stiffness(local[first], local_section, drilling_factor)
         self.stiffness = np.ascontiguousarray(stiffness)
+        self.product = product_blocks(self.stiffness)  # K0 as the kernel takes it
         self.state = initial_rotations(points.shape[0]) if state is None else state
         self.chunk_start, self.chunk_kind = kind_chunks(self.kind_start)
         self.corners = node_corners(self.cells, self.chunk_start, points.shape[0])
@@ -550,7 +597,7 @@ class CorotationalShellForces:
         the last step ``dt`` [s] (which first advances the nodes' rotations)."""
         rotations = self.state.history
         advance_rotations(rotations, velocity, dt)
-        cell_and_node_forces(points, self.cells, rotations, self.constants, self.stiffness,
+        cell_and_node_forces(points, self.cells, rotations, self.constants, self.product,
                              (self.chunk_start, self.chunk_kind), self.corners,
                              self.shared, out, nb.get_num_threads())  # fmt: skip
 

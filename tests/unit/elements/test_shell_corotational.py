@@ -39,11 +39,14 @@ from batball.elements.shell_corotational import (
     SERIES_SINE2,
     W_COS,
     W_D,
+    W_F,
     W_ROWS,
     CorotationalShellForces,
     cell_and_node_forces,
     critical_step,
     distinct_cells,
+    dof,
+    local_product,
     rotation_vectors,
 )
 from batball.elements.shell_stiffness import ShellSection, assemble_shell_stiffness, shell_section
@@ -141,6 +144,28 @@ def test_cells_of_a_ring_share_one_stiffness(bat) -> None:  # noqa: ANN001
     assert shells.stiffness.shape[0] <= mesh.n_cells // 8  # in the frames: one per ring
 
 
+def test_the_local_product_skips_only_blocks_of_zeros(bat) -> None:  # noqa: ANN001
+    """f = K0 d on the kernel's dof rows against NumPy's dense product of the element's K0 in
+    its own dof order (corner by corner), for every kind of cell of the bat."""
+    mesh, section = bat
+    shells = CorotationalShellForces(mesh.points, mesh.cells, section)
+    ordered, nonzero = shells.product
+    # w couples with neither u, v nor theta_z; theta_z with neither theta_x nor theta_y
+    assert np.all(nonzero.sum(axis=(1, 2)) == 26)
+    rng = np.random.default_rng(3)
+    row = np.array([[dof(a, k) for k in range(6)] for a in range(4)]).ravel()
+    for kind in range(shells.stiffness.shape[0]):
+        d = rng.standard_normal((24, CHUNK))  # corner a's dof k in row 6 a + k
+        w = np.full(W_ROWS * CHUNK, np.nan)
+        w.reshape(W_ROWS, CHUNK)[W_D + row] = d
+        local_product(ordered[kind], nonzero[kind], w)
+        got = w.reshape(W_ROWS, CHUNK)[W_F + row]
+        expected = shells.stiffness[kind] @ d
+        np.testing.assert_allclose(
+            got, expected, rtol=0.0, atol=1e-13 * np.abs(shells.stiffness[kind]).sum(axis=1).max()
+        )
+
+
 def test_the_critical_step_is_the_stiffest_element_mode() -> None:
     """Two nodes of unit mass on one cell's worth of stiffness: omega_max^2 from a dense
     eigen-solve of M^-1 K, the same definition by another route (numpy's eigvalsh)."""
@@ -168,7 +193,7 @@ def test_the_nodes_forces_are_the_sums_of_their_cells(bat, runs: int) -> None:  
                                 section.rotary_inertia))))  # fmt: skip
         out = np.full((points.shape[0], 6), np.nan)
         cell_and_node_forces(points + u[:, :3], shells.cells, shells.state.history,
-                             shells.constants, shells.stiffness,
+                             shells.constants, shells.product,
                              (shells.chunk_start, shells.chunk_kind), shells.corners,
                              shells.shared, out, n_runs)  # fmt: skip
         return out
@@ -193,9 +218,9 @@ def test_a_rotation_just_below_the_series_threshold_is_scaled_once(below: float)
     w = np.zeros(W_ROWS * CHUNK)
     for a in range(4):
         for k in range(3):
-            w[(W_D + 6 * a + 3 + k) * CHUNK] = s[k]
+            w[(W_D + dof(a, 3 + k)) * CHUNK] = s[k]
         w[(W_COS + a) * CHUNK] = np.sqrt(1.0 - sine2)
     rotation_vectors(w, 1)
     expected = np.arcsin(np.sqrt(sine2)) * axis
-    got = np.array([w[(W_D + 3 + k) * CHUNK] for k in range(3)])
+    got = np.array([w[(W_D + dof(0, 3 + k)) * CHUNK] for k in range(3)])
     np.testing.assert_allclose(got, expected, rtol=1e-12)
