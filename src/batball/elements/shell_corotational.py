@@ -122,12 +122,11 @@ CHUNK = 64
 # arrays, row r of column col at [r * CHUNK + col], the rows constant: LLVM then sees that the
 # loops over the columns carry no dependence and vectorises them): the corners' reference
 # positions in the undeformed frame, the current frame E's rows, the corners' cosines, the 24
-# deformational dofs (dof k of corner a at row W_D + dof(a, k), k = 0..2 the displacements, 3..5
-# the rotations; later the global forces), the 24 local forces (alike from W_F), and the
-# corners' squared sines. Before the local
-# forces are made, the rows from W_F on hold what the cells' corners are gathered into: corner
-# a's current coordinate k at row W_X + 3 a + k and its total rotation's entry (i, j) at row
-# W_R + 9 a + 3 i + j.
+# deformational dofs (dof k of corner a at row W_D + dof(a, k), k = 0..2 the displacements,
+# 3..5 the rotations; later the global forces), the 24 local forces (alike from W_F), and the
+# corners' squared sines. Before the local forces are made, the rows from W_F on hold what the
+# cells' corners are gathered into: corner a's current coordinate k at row W_X + 3 a + k and
+# its total rotation's entry (i, j) at row W_R + 9 a + 3 i + j.
 W_REF, W_FRAME, W_COS, W_D, W_F, W_SINE2 = 0, 12, 21, 25, 49, 73
 W_X, W_R, W_ROWS = 49, 61, 97
 #: Rows of a chunk's constants (``CorotationalShellForces.constants``): the undeformed frame E0
@@ -139,8 +138,9 @@ C_FRAME0, C_REF, C_ROWS = 0, 9, 21
 #: cell's frame) in the work array's 24 dof rows: the membrane translations u of the four
 #: corners first, then v, the bending rotations theta_x and theta_y, the normal translations w,
 #: the drilling rotations theta_z (:func:`dof`). In that order the MITC4 K0 has whole 4 x 4
-#: blocks of zeros, which :func:`local_product` skips: w couples with neither u, v nor theta_z,
-#: theta_z with neither w nor theta_x, theta_y (10 of the 36 blocks).
+#: blocks of zeros, which :func:`local_product` skips: w enters only the transverse shear (with
+#: theta_x, theta_y), and the drilling penalty ties theta_z to u and v only (10 of the 36
+#: blocks).
 DOF_GROUP = (0, 1, 4, 2, 3, 5)
 
 
@@ -283,8 +283,8 @@ def rotation_vectors(w: np.ndarray, n: int) -> None:
 
 def product_blocks(stiffness: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Each kind's K0 (n_kinds, 24, 24) in the order of the work array's dof rows
-    (:data:`PRODUCT_ORDER`), and which of its 4 x 4 blocks
-    hold a non-zero entry, (n_kinds, 6, 6) (uint8): the blocks :func:`local_product` sweeps."""
+    (:data:`PRODUCT_ORDER`), and which of its 4 x 4 blocks hold a non-zero entry, (n_kinds, 6,
+    6) (uint8): the blocks :func:`local_product` sweeps."""
     ordered = np.ascontiguousarray(stiffness[:, PRODUCT_ORDER][:, :, PRODUCT_ORDER])
     nonzero = (ordered != 0.0).reshape(-1, 6, 4, 6, 4).any(axis=(2, 4))
     return ordered, nonzero.astype(np.uint8)
@@ -394,8 +394,8 @@ def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
                  first: int, stop: int, run: tuple, corners: tuple, shared: np.ndarray,
                  out: np.ndarray) -> None:  # fmt: skip
     """Cells ``first`` to ``stop`` (at most CHUNK, sharing ``stiffness`` (24, 24) and its
-    ``nonzero`` blocks, :func:`product_blocks`): their
-    corner forces and moments in global axes, into their nodes (:func:`scatter_chunk`). Every
+    ``nonzero`` blocks, :func:`product_blocks`): their corner forces and moments in global
+    axes, into their nodes (:func:`scatter_chunk`). Every
     step but the scatter is a loop over all CHUNK columns of the chunk's work array (in cache
     from one step to the next), the columns past the last cell repeating it; all but the
     first (:func:`gather_corners`) are SIMD loops. A call, not inlined, so that the parallel

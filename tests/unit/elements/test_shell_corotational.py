@@ -36,6 +36,8 @@ from scipy.spatial.transform import Rotation
 
 from batball.elements.shell_corotational import (
     CHUNK,
+    DOF_GROUP,
+    PRODUCT_ORDER,
     SERIES_SINE2,
     W_COS,
     W_D,
@@ -142,6 +144,15 @@ def test_cells_of_a_ring_share_one_stiffness(bat) -> None:  # noqa: ANN001
     assert kind.max() + 1 > mesh.n_cells // 8  # the axes differ from cell to cell
     shells = CorotationalShellForces(mesh.points, mesh.cells, section)
     assert shells.stiffness.shape[0] <= mesh.n_cells // 8  # in the frames: one per ring
+
+
+def test_the_dof_rows_group_each_kind_of_dof() -> None:
+    rows = [[dof(a, k) for a in range(4)] for k in range(6)]
+    assert sorted(r for group in rows for r in group) == list(range(24))  # one row each
+    for k, group in enumerate(rows):  # a kind of dof fills one 4-row block, corner by corner
+        assert group == [4 * DOF_GROUP[k] + a for a in range(4)]
+    # K0's dof 6 a + k (corner by corner) sits at row dof(a, k) of the kernel's product
+    assert all(PRODUCT_ORDER[dof(a, k)] == 6 * a + k for a in range(4) for k in range(6))
 
 
 def test_the_local_product_skips_only_blocks_of_zeros(bat) -> None:  # noqa: ANN001
