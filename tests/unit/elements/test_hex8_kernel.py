@@ -19,8 +19,12 @@ import pytest
 from batball.elements.hex8 import _KERNELS, compute_hex8_forces
 from batball.elements.hex8_block import (
     BLOCK,
+    GATHER_LANES,
     N_ROWS,
+    R_V,
+    R_X,
     element_block_viscous,
+    gather_nodes,
     history_rows,
     pack_history,
     unpack_history,
@@ -323,3 +327,28 @@ def test_single_precision_element_loop_is_packed_single() -> None:
     double = re.findall(r"\tv?(?:add|sub|mul|div|f[n]?m(?:add|sub)\d*)pd\s", asm)
     assert len(single) > 400
     assert not double  # ln and the cube root run in float32 too (vector_math.log32, cbrt32)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+@pytest.mark.parametrize("n", [BLOCK, GATHER_LANES + 5, 3])
+def test_node_gather_matches_numpy(dtype: type, n: int) -> None:
+    # whole groups of GATHER_LANES cells go through the vector gather, the rest one by one;
+    # both must store x (and v) of each cell's nodes less its first node's, the difference
+    # taken in double and rounded once to the scratch's precision (double: the values as they
+    # are), as NumPy computes it here
+    rng = np.random.default_rng(7)
+    n_points, start = 200, 5
+    points = 0.05 + 0.01 * rng.standard_normal((n_points, 3))  # a ball away from the origin
+    velocities = 42.0 + rng.standard_normal((n_points, 3))  # flying at 42 m/s
+    cells = rng.integers(0, n_points, size=(start + n + 4, 8)).astype(np.int32)
+    w = np.full(N_ROWS * BLOCK, np.nan, dtype=dtype)
+    gather_nodes(w, start, n, points.reshape(-1), velocities.reshape(-1), cells)
+    own = cells[start : start + n]
+    for row, values in ((R_X, points), (R_V, velocities)):
+        nodal = values[own]  # (n, 8, 3)
+        if dtype == np.float32:
+            nodal = nodal - nodal[:, :1, :]
+        want = nodal.reshape(n, 24).T.astype(dtype)  # rows 3 a + i, one column a cell
+        got = w[row * BLOCK : (row + 24) * BLOCK].reshape(24, BLOCK)
+        assert np.array_equal(got[:, :n], want)
+        assert np.isnan(got[:, n:]).all()  # nothing beyond the n cells
