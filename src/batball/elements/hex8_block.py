@@ -606,6 +606,37 @@ def scatter_outputs(
         cell_dt[start + e] = w[at(R_DT, e)]
 
 
+@intrinsic
+def _add_pair(typingctx, flat, offset, first, second):  # noqa: ANN001, ANN202
+    """``flat[offset] += first`` and ``flat[offset + 1] += second`` (a float64 array; the values
+    float32 or float64, widened exactly) as one load, add and store of a pair."""
+    if (
+        flat != types.Array(types.float64, 1, "C")
+        or offset != types.uint64
+        or first not in (types.float32, types.float64)
+        or second != first
+    ):
+        return None
+
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        data = context.make_array(signature.args[0])(context, builder, value=args[0]).data
+        pair = ir.VectorType(ir.DoubleType(), 2)
+        target = builder.bitcast(builder.gep(data, [args[1]]), pair.as_pointer())
+        values = ir.Constant(ir.VectorType(args[2].type, 2), ir.Undefined)
+        values = builder.insert_element(values, args[2], ir.Constant(ir.IntType(32), 0))
+        values = builder.insert_element(values, args[3], ir.Constant(ir.IntType(32), 1))
+        if args[2].type != ir.DoubleType():
+            values = builder.fpext(values, pair)
+        builder.store(builder.fadd(builder.load(target, align=8), values), target, align=8)
+        return context.get_dummy_value()
+
+    return types.none(flat, offset, first, second), codegen
+
+
+#: Typed view of the intrinsic for mypy (the same object for Numba).
+add_pair = cast("Callable[[np.ndarray, np.uint64, float, float], None]", _add_pair)
+
+
 @nb.njit
 def scatter_forces(
     w: np.ndarray, start: int, n: int, cells: np.ndarray, forces: np.ndarray
@@ -621,6 +652,6 @@ def scatter_forces(
         slot = np.uint64(e)
         for a in range(8):
             node = _node_offset(cells, cell, a)
-            forces[node] += w[_unsigned_at(R_X + 3 * a, slot)]
-            forces[node + np.uint64(1)] += w[_unsigned_at(R_X + 3 * a + 1, slot)]
+            x, y = w[_unsigned_at(R_X + 3 * a, slot)], w[_unsigned_at(R_X + 3 * a + 1, slot)]
+            add_pair(forces, node, x, y)
             forces[node + np.uint64(2)] += w[_unsigned_at(R_X + 3 * a + 2, slot)]

@@ -27,6 +27,7 @@ from batball.elements.hex8_block import (
     gather_nodes,
     history_rows,
     pack_history,
+    scatter_forces,
     unpack_history,
 )
 
@@ -352,3 +353,24 @@ def test_node_gather_matches_numpy(dtype: type, n: int) -> None:
         got = w[row * BLOCK : (row + 24) * BLOCK].reshape(24, BLOCK)
         assert np.array_equal(got[:, :n], want)
         assert np.isnan(got[:, n:]).all()  # nothing beyond the n cells
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_force_scatter_adds_in_cell_order(dtype: type) -> None:
+    # each node's sum must run over its cells in cell order (the double kernel's bits, and the
+    # same sums on any number of threads, rest on it), each float32 force widened exactly;
+    # np.add.at applies repeated indices one after another in the order given
+    rng = np.random.default_rng(11)
+    n_points, start, n = 30, 3, BLOCK  # few nodes: each is shared by many cells
+    cells = rng.integers(0, n_points, size=(start + n, 8)).astype(np.int32)
+    w = rng.standard_normal(N_ROWS * BLOCK).astype(dtype)
+    # forces from 1 to 1e9: sums that are not exact, so that another order would show (it
+    # changes 5 of the 90 sums in single precision, 11 in double)
+    forces = rng.standard_normal(n_points * 3) * 10.0 ** rng.uniform(0.0, 9.0, n_points * 3)
+    want = forces.copy()
+    own = cells[start : start + n]
+    values = w[R_X * BLOCK : (R_X + 24) * BLOCK].reshape(24, BLOCK)[:, :n].T  # (n, 3 a + i)
+    index = (3 * own[:, :, None] + np.arange(3)).reshape(n, 24)
+    np.add.at(want, index.reshape(-1), values.reshape(-1).astype(np.float64))
+    scatter_forces(w, start, n, cells, forces)
+    assert np.array_equal(forces, want)
