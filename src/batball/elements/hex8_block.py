@@ -450,8 +450,9 @@ def _gather_rows(typingctx, w, index, nodal, offsets, origin):  # noqa: ANN001, 
     """Three rows of the block scratch from eight nodes: ``w[index + i BLOCK + k] =
     nodal[offsets[k] + i] - origin[i][k]`` for i < 3 and k < GATHER_LANES, the difference taken
     in double and rounded once to the precision of ``w``: what the scalar loop stores, with
-    each node's (x, y) loaded as a pair and the rows stored as vectors (an eighth of the
-    scalar loop's stores and conversions; LLVM does not find this in the scalar loop)."""
+    each node's (x, y) loaded as a pair, the differences rounded a vector at a time and each
+    row stored as one vector instead of eight scalars (LLVM does not find this in the scalar
+    loop)."""
     lanes = types.UniTuple(types.uint64, GATHER_LANES)
     origins = types.UniTuple(types.UniTuple(types.float64, GATHER_LANES), 3)
     if (
@@ -609,7 +610,8 @@ def scatter_outputs(
 @intrinsic
 def _add_pair(typingctx, flat, offset, first, second):  # noqa: ANN001, ANN202
     """``flat[offset] += first`` and ``flat[offset + 1] += second`` (a float64 array; the values
-    float32 or float64, widened exactly) as one load, add and store of a pair."""
+    float32 or float64, widened exactly) as one load, add and store of a pair: the same sums as
+    two scalar updates, with a third fewer memory operations (LLVM does not pair them)."""
     if (
         flat != types.Array(types.float64, 1, "C")
         or offset != types.uint64
