@@ -29,7 +29,7 @@ from batball.elements.hex8_kinematics import (
     element_kinematics,
 )
 from batball.elements.hex8_response import element_response
-from batball.elements.vector_math import like
+from batball.elements.vector_math import like, transposed_lanes
 from batball.errors import SpecError
 from batball.materials.viscoelastic import viscoelastic_step_factors
 from batball.numerics import FASTMATH, wide_vectors
@@ -416,35 +416,6 @@ def _node_offset(cells: np.ndarray, cell: np.uint64, a: int) -> np.uint64:
 GATHER_LANES = 8
 
 
-def _mask(indices: list[int]) -> ir.Constant:
-    """A constant shuffle mask."""
-    i32 = ir.IntType(32)
-    return ir.Constant(ir.VectorType(i32, len(indices)), [ir.Constant(i32, i) for i in indices])
-
-
-def _transposed_lanes(builder: ir.IRBuilder, data: ir.Value, offsets: ir.Value) -> list:
-    """The x, y and z of eight 3-vectors of doubles at data + offsets[k], as three <8 x double>:
-    each vector's (x, y) loaded as a pair and z alone, the pairs interleaved by shuffles."""
-    pair = ir.VectorType(ir.DoubleType(), 2)
-    pairs, zs = [], []
-    for k in range(GATHER_LANES):
-        p = builder.gep(data, [builder.extract_value(offsets, k)])
-        pairs.append(builder.load(builder.bitcast(p, pair.as_pointer()), align=8))
-        zs.append(builder.load(builder.gep(p, [ir.Constant(ir.IntType(64), 2)]), align=8))
-    xs, ys = [], []
-    for h in (0, 4):  # four lanes at a time: (x0 y0 x1 y1), (x2 y2 x3 y3) -> (x0..x3), (y0..y3)
-        low = builder.shuffle_vector(pairs[h], pairs[h + 1], _mask([0, 1, 2, 3]))
-        high = builder.shuffle_vector(pairs[h + 2], pairs[h + 3], _mask([0, 1, 2, 3]))
-        xs.append(builder.shuffle_vector(low, high, _mask([0, 2, 4, 6])))
-        ys.append(builder.shuffle_vector(low, high, _mask([1, 3, 5, 7])))
-    eight = _mask(list(range(8)))
-    z = ir.Constant(ir.VectorType(ir.DoubleType(), GATHER_LANES), ir.Undefined)
-    for k in range(GATHER_LANES):
-        z = builder.insert_element(z, zs[k], ir.Constant(ir.IntType(32), k))
-    x = builder.shuffle_vector(xs[0], xs[1], eight)
-    return [x, builder.shuffle_vector(ys[0], ys[1], eight), z]
-
-
 @intrinsic
 def _gather_rows(typingctx, w, index, nodal, offsets, origin):  # noqa: ANN001, ANN202
     """Three rows of the block scratch from eight nodes: ``w[index + i BLOCK + k] =
@@ -470,7 +441,7 @@ def _gather_rows(typingctx, w, index, nodal, offsets, origin):  # noqa: ANN001, 
         data = context.make_array(signature.args[2])(context, builder, value=args[2]).data
         element = context.get_value_type(signature.args[0].dtype)
         row_type = ir.VectorType(element, GATHER_LANES)
-        for i, values in enumerate(_transposed_lanes(builder, data, args[3])):
+        for i, values in enumerate(transposed_lanes(builder, data, args[3], 3)):
             o = ir.Constant(values.type, ir.Undefined)
             for k in range(GATHER_LANES):
                 o = builder.insert_element(

@@ -54,6 +54,7 @@ from batball.elements.shell_stiffness import (
     element_frames,
     local_stiffness,
 )
+from batball.elements.vector_math import gather_columns
 from batball.errors import SimulationError
 from batball.numerics import FASTMATH
 
@@ -169,18 +170,36 @@ def load3(w: np.ndarray, row: int, col: int) -> Vec3:
     return w[row * CHUNK + col], w[(row + 1) * CHUNK + col], w[(row + 2) * CHUNK + col]
 
 
+#: Columns the corner gather fills at once (CHUNK is a multiple of it): one 256-bit vector.
+GATHER_COLUMNS = 4
+
+
+@nb.njit(inline="always")
+def _corner_offsets(cells: np.ndarray, c: tuple, a: int, size: int) -> tuple:
+    """Flat offsets of corner ``a``'s node of the GATHER_COLUMNS cells ``c`` in an array of
+    ``size`` values a node (unsigned)."""
+    u = np.uint64(size)
+    return (u * np.uint64(cells[c[0], a]), u * np.uint64(cells[c[1], a]),
+            u * np.uint64(cells[c[2], a]), u * np.uint64(cells[c[3], a]))  # fmt: skip
+
+
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
-def gather_corners(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray, c: int,
-                   w: np.ndarray, col: int) -> None:  # fmt: skip
-    """Cell ``c``'s corners' positions and total rotations into column ``col`` of the work
-    array's rows W_X and W_R (a scalar loop: its loads go through ``cells``)."""
-    for a in range(4):
-        n = cells[c, a]
-        for k in range(3):
-            w[(W_X + 3 * a + k) * CHUNK + col] = points[n, k]
-        for i in range(3):
-            for j in range(3):
-                w[(W_R + 9 * a + 3 * i + j) * CHUNK + col] = rotations[n, i, j]
+def gather_corners(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray, first: int,
+                   stop: int, w: np.ndarray) -> None:  # fmt: skip
+    """The corners' positions and total rotations of cells ``first`` to ``stop`` into the work
+    array's rows W_X and W_R, cell first + col in column col, the columns past the last cell
+    repeating it; GATHER_COLUMNS columns at a time (:func:`vector_math.gather_columns`: each
+    node's values loaded in pairs, each row's columns stored as one vector)."""
+    xs, rs = points.reshape(-1), rotations.reshape(-1)
+    last, stride = stop - 1, np.uint64(CHUNK)
+    for col in range(0, CHUNK, GATHER_COLUMNS):
+        c = (min(first + col, last), min(first + col + 1, last),
+             min(first + col + 2, last), min(first + col + 3, last))  # fmt: skip
+        for a in range(4):
+            gather_columns(w, np.uint64((W_X + 3 * a) * CHUNK + col), stride, xs,
+                           _corner_offsets(cells, c, a, 3), 3)  # fmt: skip
+            gather_columns(w, np.uint64((W_R + 9 * a) * CHUNK + col), stride, rs,
+                           _corner_offsets(cells, c, a, 9), 9)  # fmt: skip
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -397,12 +416,12 @@ def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
     ``nonzero`` blocks, :func:`product_blocks`): their corner forces and moments in global
     axes, into their nodes (:func:`scatter_chunk`). Every
     step but the scatter is a loop over all CHUNK columns of the chunk's work array (in cache
-    from one step to the next), the columns past the last cell repeating it; all but the
-    first (:func:`gather_corners`) are SIMD loops. A call, not inlined, so that the parallel
+    from one step to the next), the columns past the last cell repeating it: the gather
+    (:func:`gather_corners`) with vector loads and stores of its own, the others SIMD loops
+    across the columns. A call, not inlined, so that the parallel
     loop's array analysis does not see the frame's tuples."""
     w = np.empty(W_ROWS * CHUNK)
-    for col in range(CHUNK):  # the columns past the last cell repeat it
-        gather_corners(points, cells, rotations, min(first + col, stop - 1), w, col)
+    gather_corners(points, cells, rotations, first, stop, w)
     for col in range(CHUNK):
         deformation(constants, w, col)
     rotation_vectors(w, stop - first)

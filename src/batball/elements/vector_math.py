@@ -173,6 +173,83 @@ def _like(typingctx, x, value):  # noqa: ANN001, ANN202
 like = cast("Callable[[float, float], float]", _like)
 
 
+def shuffle_mask(indices: list[int]) -> ir.Constant:
+    """A constant LLVM shuffle mask."""
+    return ir.Constant(ir.VectorType(_I32, len(indices)), [_I32(i) for i in indices])
+
+
+def transposed_lanes(
+    builder: ir.IRBuilder, data: ir.Value, offsets: ir.Value, count: int
+) -> list[ir.Value]:
+    """LLVM IR for components 0..count-1 of L short vectors of doubles, the k-th at
+    ``data + offsets[k]`` (``offsets`` an L-tuple, L a power of two): ``count`` rows, each an
+    <L x double> of one component across the vectors. Each vector's components are loaded in
+    pairs (the last alone where ``count`` is odd) and the pairs interleaved by shuffles,
+    which LLVM lowers to unpack and lane-insert instructions: a third of the loads of one at
+    a time, and no inserts of scalars but for an odd last component."""
+    lanes = len(offsets.type.elements)
+    pair = ir.VectorType(ir.DoubleType(), 2)
+    bases = [builder.gep(data, [builder.extract_value(offsets, k)]) for k in range(lanes)]
+    rows = []
+    for j in range(count // 2):
+        at = ir.IntType(64)(2 * j)
+        level = [builder.load(builder.bitcast(builder.gep(b, [at]), pair.as_pointer()), align=8)
+                 for b in bases]  # fmt: skip
+        while len(level) > 1:  # concatenated: (c_2j, c_2j+1) of vector 0, then of vector 1...
+            width = 2 * level[0].type.count
+            joined = shuffle_mask(list(range(width)))
+            level = [builder.shuffle_vector(level[i], level[i + 1], joined)
+                     for i in range(0, len(level), 2)]  # fmt: skip
+        both = level[0]
+        rows.append(builder.shuffle_vector(both, both, shuffle_mask(list(range(0, 2 * lanes, 2)))))
+        rows.append(builder.shuffle_vector(both, both, shuffle_mask(list(range(1, 2 * lanes, 2)))))
+    if count % 2:
+        row = ir.Constant(ir.VectorType(ir.DoubleType(), lanes), ir.Undefined)
+        for k, b in enumerate(bases):
+            value = builder.load(builder.gep(b, [ir.IntType(64)(count - 1)]), align=8)
+            row = builder.insert_element(row, value, _I32(k))
+        rows.append(row)
+    return rows
+
+
+@intrinsic
+def _gather_columns(typingctx, w, index, stride, flat, offsets, count):  # noqa: ANN001, ANN202
+    """``w[index + c stride + k] = flat[offsets[k] + c]`` for c < count and each lane k of
+    ``offsets`` (a tuple of uint64; 2, 4 or 8 lanes) in float64 arrays: a work array's columns
+    k of ``count`` rows from vectors of a flat nodal array, through :func:`transposed_lanes`
+    (``count`` a compile-time constant)."""
+    double = types.Array(types.float64, 1, "C")
+    if (
+        w != double
+        or flat != double
+        or index != types.uint64
+        or stride != types.uint64
+        or not isinstance(offsets, types.UniTuple)
+        or offsets.dtype != types.uint64
+        or offsets.count not in (2, 4, 8)
+        or not isinstance(count, types.IntegerLiteral)
+    ):
+        return None
+
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        target = context.make_array(signature.args[0])(context, builder, value=args[0]).data
+        data = context.make_array(signature.args[3])(context, builder, value=args[3]).data
+        rows = transposed_lanes(builder, data, args[4], count.literal_value)
+        for c, row in enumerate(rows):
+            at = builder.add(args[1], builder.mul(args[2], ir.IntType(64)(c)))
+            pointer = builder.bitcast(builder.gep(target, [at]), row.type.as_pointer())
+            builder.store(row, pointer, align=8)
+        return context.get_dummy_value()
+
+    return types.none(w, index, stride, flat, offsets, count), codegen
+
+
+#: Typed view of the intrinsic for mypy (the same object for Numba).
+gather_columns = cast(
+    "Callable[[np.ndarray, np.uint64, np.uint64, np.ndarray, tuple, int], None]", _gather_columns
+)
+
+
 @nb.njit(inline="always", fastmath=FASTMATH)
 def _log_special(x: float) -> float:
     """ln x where x is not positive and finite: NaN, -inf at 0, +inf at +inf."""

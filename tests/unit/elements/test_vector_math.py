@@ -28,6 +28,7 @@ from batball.elements.vector_math import (
     _small_uint,
     _uint_float,
     cbrt,
+    gather_columns,
     log,
 )
 from batball.numerics import FASTMATH
@@ -239,3 +240,36 @@ def test_log_and_cbrt_give_the_same_bits_on_an_avx2_target(tmp_path) -> None:
         avx2 = np.load(tmp_path / f"y{name}.npy")
         np.testing.assert_array_equal(avx2[0], cbrt_all(values))
         np.testing.assert_array_equal(avx2[1], log_all(np.abs(values)))
+
+
+@nb.njit
+def _gather_lanes(w, index, stride, flat, first, count_is_nine):  # noqa: ANN001, ANN202
+    # four and eight lanes, three and nine components (an odd last one) and two (even)
+    u = np.uint64
+    four = (u(first[0]), u(first[1]), u(first[2]), u(first[3]))
+    eight = four + (u(first[4]), u(first[5]), u(first[6]), u(first[7]))
+    if count_is_nine:
+        gather_columns(w, u(index), u(stride), flat, four, 9)
+        gather_columns(w, u(index + 4), u(stride), flat, eight, 9)
+    else:
+        gather_columns(w, u(index), u(stride), flat, four, 3)
+        gather_columns(w, u(index + 4), u(stride), flat, eight, 2)
+
+
+@pytest.mark.parametrize("count", [3, 9])
+def test_gather_columns_matches_numpy(count: int) -> None:
+    # w[index + c stride + k] = flat[offsets[k] + c]: columns of a work array from vectors of
+    # a flat nodal array, each vector read in pairs and the pairs interleaved by shuffles
+    rng = np.random.default_rng(5)
+    size = 9 if count == 9 else 3
+    nodal = rng.standard_normal((40, size))
+    nodes = rng.integers(0, 40, size=8)
+    stride = 16
+    w = np.full(9 * stride, np.nan)
+    _gather_lanes(w, 2, stride, nodal.reshape(-1), size * nodes, count == 9)
+    rows = w.reshape(9, stride)
+    first_count, second_count = (9, 9) if count == 9 else (3, 2)
+    assert np.array_equal(rows[:first_count, 2:6], nodal[nodes[:4], :first_count].T)
+    assert np.array_equal(rows[:second_count, 6:14], nodal[nodes, :second_count].T)
+    assert np.isnan(rows[:, :2]).all() and np.isnan(rows[:, 14:]).all()
+    assert np.isnan(rows[first_count:, 2:6]).all() and np.isnan(rows[second_count:, 6:14]).all()
