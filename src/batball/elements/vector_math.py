@@ -185,8 +185,8 @@ def transposed_lanes(
     ``data + offsets[k]`` (``offsets`` an L-tuple, L a power of two): ``count`` rows, each an
     <L x double> of one component across the vectors. Each vector's components are loaded in
     pairs (the last alone where ``count`` is odd) and the pairs interleaved by shuffles,
-    which LLVM lowers to unpack and lane-insert instructions: a third of the loads of one at
-    a time, and no inserts of scalars but for an odd last component."""
+    which LLVM lowers to unpack and lane-insert instructions: about half the loads of one
+    value at a time, and no inserts of scalars but for an odd last component."""
     lanes = len(offsets.type.elements)
     pair = ir.VectorType(ir.DoubleType(), 2)
     bases = [builder.gep(data, [builder.extract_value(offsets, k)]) for k in range(lanes)]
