@@ -173,7 +173,7 @@ def _like(typingctx, x, value):  # noqa: ANN001, ANN202
 like = cast("Callable[[float, float], float]", _like)
 
 
-def shuffle_mask(indices: list[int]) -> ir.Constant:
+def _shuffle_mask(indices: list[int]) -> ir.Constant:
     """A constant LLVM shuffle mask."""
     return ir.Constant(ir.VectorType(_I32, len(indices)), [_I32(i) for i in indices])
 
@@ -197,12 +197,12 @@ def transposed_lanes(
                  for b in bases]  # fmt: skip
         while len(level) > 1:  # concatenated: (c_2j, c_2j+1) of vector 0, then of vector 1...
             width = 2 * level[0].type.count
-            joined = shuffle_mask(list(range(width)))
+            joined = _shuffle_mask(list(range(width)))
             level = [builder.shuffle_vector(level[i], level[i + 1], joined)
                      for i in range(0, len(level), 2)]  # fmt: skip
         both = level[0]
-        rows.append(builder.shuffle_vector(both, both, shuffle_mask(list(range(0, 2 * lanes, 2)))))
-        rows.append(builder.shuffle_vector(both, both, shuffle_mask(list(range(1, 2 * lanes, 2)))))
+        rows.append(builder.shuffle_vector(both, both, _shuffle_mask(list(range(0, 2 * lanes, 2)))))
+        rows.append(builder.shuffle_vector(both, both, _shuffle_mask(list(range(1, 2 * lanes, 2)))))
     if count % 2:
         row = ir.Constant(ir.VectorType(ir.DoubleType(), lanes), ir.Undefined)
         for k, b in enumerate(bases):
