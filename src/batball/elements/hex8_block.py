@@ -412,7 +412,8 @@ def _node_offset(cells: np.ndarray, cell: np.uint64, a: int) -> np.uint64:
     return np.uint64(3) * np.uint64(cells[cell, a])
 
 
-#: Cells the node gather moves at once (BLOCK is a multiple of it).
+#: Cells the node gather moves at once (BLOCK is a multiple of it); _lane_offsets and
+#: _lane_values spell out the eight.
 GATHER_LANES = 8
 
 

@@ -170,7 +170,8 @@ def load3(w: np.ndarray, row: int, col: int) -> Vec3:
     return w[row * CHUNK + col], w[(row + 1) * CHUNK + col], w[(row + 2) * CHUNK + col]
 
 
-#: Columns the corner gather fills at once (CHUNK is a multiple of it): one 256-bit vector.
+#: Columns the corner gather fills at once (CHUNK is a multiple of it): one 256-bit vector
+#: of doubles; _corner_offsets and gather_corners spell out the four.
 GATHER_COLUMNS = 4
 
 
