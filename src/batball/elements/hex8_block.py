@@ -35,11 +35,12 @@ from batball.materials.viscoelastic import viscoelastic_step_factors
 from batball.numerics import FASTMATH, wide_vectors
 
 #: Elements per block: a multiple of the SIMD width whose scratch (N_ROWS rows) stays in L1.
-#: 16 (one 512-bit vector of float32) where the kernels are compiled for AVX-512, as they were
-#: tuned on the AVX-512 machines; 64 (eight 256-bit vectors) elsewhere: on an AVX2 EPYC (Zen 3)
-#: the single-precision kernel ran 12-19 % faster with 64 than with 16 (IHQ 1 and 4), double
-#: precision 2-10 %, and 32 and 128 fell between (benchmarks/RESULTS.md).
-BLOCK = 16 if wide_vectors() else 64
+#: 32 (two 512-bit vectors of float32) where the kernels are compiled for AVX-512: on a Sapphire
+#: Rapids Xeon the full-size single-precision CCOR solver ran 7-14 % faster on one thread with 32
+#: than with 16, and 32 was as fast as 64 or faster; 64 (eight 256-bit vectors) elsewhere: on an
+#: AVX2 EPYC (Zen 3) the single-precision kernel ran 12-19 % faster with 64 than with 16 (IHQ 1
+#: and 4), double precision 2-10 %, and 32 and 128 fell between (benchmarks/RESULTS.md).
+BLOCK = 32 if wide_vectors() else 64
 
 # Rows of the block scratch (each BLOCK wide).
 R_X = 0  # 24 node coordinates x^n [m] (node-major), then the 24 nodal forces [N]

@@ -222,7 +222,7 @@ def assert_close(actual: np.ndarray, expected: np.ndarray, rel: float = 1e-10) -
 
 @pytest.mark.parametrize("hg_type", [1, 2, 3, 4, 5])
 def test_kernel_matches_the_per_element_reference(hg_type: int) -> None:
-    # 264 cells: several blocks of the kernel's layout whatever BLOCK is (16 or 64), the last
+    # 264 cells: several blocks of the kernel's layout whatever BLOCK is (32 or 64), the last
     # one partial, split over three slots
     model = distorted_model(seed=hg_type, n=(4, 6, 11))
     got = run_kernel(model, hg_type, qh=0.1, q1=1.5, q2=0.06, n_chunks=3)
