@@ -123,17 +123,14 @@ def assemble_and_update(
 
 
 @nb.njit(fastmath=FASTMATH, inline="always")
-def _take_force(force, o, f, adding=False):  # noqa: ANN001, ANN202
-    """The force (3-tuple) at flat offset o, added to ``f`` where ``adding``, and its entries
-    cleared."""
+def _take_force(force, o):  # noqa: ANN001, ANN202
+    """The force (3-tuple) at flat offset o, its entries cleared."""
     one, two = np.uint64(1), np.uint64(2)
-    g = (force[o], force[o + one], force[o + two])
+    f = (force[o], force[o + one], force[o + two])
     force[o] = 0.0
     force[o + one] = 0.0
     force[o + two] = 0.0
-    if adding:
-        return (f[0] + g[0], f[1] + g[1], f[2] + g[2])
-    return g
+    return f
 
 
 @nb.njit(fastmath=FASTMATH, inline="always")
@@ -183,9 +180,9 @@ def update_run(
     range (a slot's forces are zero outside it), in the same pass over the nodes as the step,
     and cleared: one pass over the forces instead of a pass that adds the slots into slot 0
     and a second one that reads it (on two threads of a 2-core Sapphire Rapids Xeon about a
-    tenth off the update); the step carries no sum (a sum carried through a loop keeps LLVM
-    from vectorising it without reassociation); then each block's sums from the new
-    velocities. The offsets are unsigned,
+    tenth off the update); then each block's sums from the new velocities, in loops of their
+    own (a sum carried through the step's loop would keep LLVM from vectorising it without
+    reassociation). The offsets are unsigned,
     for which Numba adds no negative-index wraparound: with signed ones from a runtime range
     the step ran 40 % slower. (The coupled test's ball_bat.take_slot_forces sums every slot
     into a separate array: the same sums, but 60 % more time here on one thread.)
@@ -202,15 +199,15 @@ def update_run(
     if slot_nodes.shape[0] == 1:
         for n in range(np.uint64(first), np.uint64(end)):
             o = three * n
-            f = _take_force(force, o, (0.0, 0.0, 0.0))
-            _step_node(n, o, f, mass, x, v, node_sums, step)
+            _step_node(n, o, _take_force(force, o), mass, x, v, node_sums, step)
     else:
         for n in range(np.uint64(first), np.uint64(end)):
             o = three * n
-            f = _take_force(force, o, (0.0, 0.0, 0.0))
+            f = _take_force(force, o)
             for slot in range(1, slot_nodes.shape[0]):
                 if np.uint64(slot_nodes[slot, 0]) <= n < np.uint64(slot_nodes[slot, 1]):
-                    f = _take_force(force, np.uint64(slot) * stride + o, f, True)
+                    g = _take_force(force, np.uint64(slot) * stride + o)
+                    f = (f[0] + g[0], f[1] + g[1], f[2] + g[2])
             _step_node(n, o, f, mass, x, v, node_sums, step)
     velocities = v.reshape(-1, 3)
     for block in range(first_block, end_block):
