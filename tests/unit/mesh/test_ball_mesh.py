@@ -15,6 +15,7 @@ from batball.mesh import (
     surface_point_ids,
 )
 from batball.mesh.hexa import face_area_vectors
+from batball.solvers.explicit_kernels import slot_node_ranges
 
 RADIUS = 0.0485  # m, a 12-inch softball is about 0.0485 m in radius
 SPHERE_VOLUME = 4.0 / 3.0 * np.pi * RADIUS**3
@@ -86,6 +87,19 @@ def test_cell_sets_split_core_and_shell(ball: tuple[int, Mesh]) -> None:
     core, shell = mesh.cell_sets["core"], mesh.cell_sets["shell"]
     assert core.size == n**3 and shell.size == 6 * n**3
     assert np.array_equal(np.sort(np.concatenate([core, shell])), np.arange(mesh.n_cells))
+
+
+def test_node_numbering_keeps_the_solver_halves_apart(ball: tuple[int, Mesh]) -> None:
+    # The explicit solver splits the cells into two contiguous halves on two threads. The cells
+    # go in slabs and the nodes by half, so the halves' node ranges should overlap in no more
+    # than the surface nodes (one run between the halves) and the middle slab's nodes, fewer
+    # than two node layers of a square of 2 n + 1 nodes a side; the surface stays one run.
+    n, mesh = ball
+    (lo0, hi0), (lo1, hi1) = slot_node_ranges(mesh.cells, 2)
+    surface = mesh.point_sets["surface"]
+    assert lo0 == 0 and hi1 == mesh.n_points
+    assert hi0 - lo1 < surface.size + 2 * (2 * n + 1) ** 2
+    assert surface.max() - surface.min() + 1 == surface.size
 
 
 def test_every_cell_has_positive_volume_and_good_shape(ball: tuple[int, Mesh]) -> None:
