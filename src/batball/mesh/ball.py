@@ -96,10 +96,18 @@ def _slab_order(centroids: np.ndarray, n_slabs: int) -> np.ndarray:
     return np.lexsort((slab[:, 0], slab[:, 1], slab[:, 2]))
 
 
+def _inverse(order: np.ndarray) -> np.ndarray:
+    """The inverse of the permutation ``order``: the new index of each old one."""
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    return rank
+
+
 def _number_nodes(
     keys: np.ndarray, cells: np.ndarray, divisions: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Keys and cells with the nodes renumbered for the explicit solver's caches: the inner
+    """The node order (old ids in new order) and the cells renumbered for the explicit
+    solver's caches: the inner
     nodes that the first half of the cells uses, then the surface nodes, then the other inner
     nodes, each group in the order the cells first use its nodes.
 
@@ -120,9 +128,7 @@ def _number_nodes(
     order = np.concatenate(
         [by_use[~outer & in_first_half], by_use[outer], by_use[~outer & ~in_first_half]]
     )
-    new_id = np.empty_like(order)
-    new_id[order] = np.arange(order.size)
-    return keys[order], new_id[cells]
+    return order, _inverse(order)[cells]
 
 
 def _core_positions(xi: np.ndarray, radius: float) -> np.ndarray:
@@ -190,14 +196,15 @@ def make_ball_mesh(radius: float, *, divisions: int = 12) -> Mesh:
     blocks = [_core_keys(divisions)]
     blocks += [_shell_keys(divisions, axis, sign) for axis in range(3) for sign in (1, -1)]
     keys, cells, block_cell_ids = _merge_blocks(blocks)
-    order = _slab_order(_positions(keys, divisions, radius)[cells].mean(axis=1), 2 * divisions)
-    rank = np.empty_like(order)
-    rank[order] = np.arange(order.size)
+    points = _positions(keys, divisions, radius)
+    order = _slab_order(points[cells].mean(axis=1), 2 * divisions)
+    rank = _inverse(order)
     cells, block_cell_ids = cells[order], [np.sort(rank[ids]) for ids in block_cell_ids]
-    keys, cells = _number_nodes(keys, cells, divisions)
+    node_order, cells = _number_nodes(keys, cells, divisions)
+    keys, points = keys[node_order], points[node_order]
     point_sets = {"surface": np.nonzero(keys[:, 0] == divisions)[0]}
     centre = np.nonzero((keys[:, 0] == 0) & np.all(keys[:, 1:] == 0, axis=1))[0]
     if centre.size:
         point_sets["centre"] = centre
     cell_sets = {"core": block_cell_ids[0], "shell": np.concatenate(block_cell_ids[1:])}
-    return Mesh(_positions(keys, divisions, radius), cells, point_sets, cell_sets)
+    return Mesh(points, cells, point_sets, cell_sets)

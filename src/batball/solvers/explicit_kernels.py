@@ -42,8 +42,8 @@ CONTACT_ENERGY, DAMPING_ENERGY, N_ENERGIES = 3, 4, 5
 def slot_node_ranges(cells: np.ndarray, n_slots: int) -> np.ndarray:
     """The node ids each slot of the element kernel can write: (n_slots, 2) [lowest, highest + 1]
     over the slot's cells (:func:`batball.elements.hex8.slot_cells`, as the element kernel
-    splits them). The update adds slots 1.. into slot 0 only inside their ranges (a slot's
-    forces are zero outside it), then reads and clears slot 0 at every node."""
+    splits them). The update takes a slot's forces only inside its range (they are zero outside
+    it), and at a node that one slot's range holds, only that slot's."""
     ranges = np.zeros((n_slots, 2), dtype=np.int64)
     for slot in range(n_slots):
         first, end = slot_cells(slot, n_slots, cells.shape[0])
