@@ -201,16 +201,17 @@ def update_run(
     tenth off the update). The nodes go in runs that the same slots' ranges hold
     (:func:`_segment`): a run that one slot holds takes that slot's forces with no range checks
     (on that Xeon, two threads with slots that overlap only in a few nodes took 28 us where the
-    check at every node took 39 us, one thread with one slot 47-51 us). Compiled with NumPy's
-    error model: Python's tests every division (half / m) for zero, a branch that kept LLVM
-    from vectorising the node loops (the masses are positive, :func:`lumped_masses`; alone on
-    one thread the update took about a fifth less, the same bits). Then each block's sums
-    from the new velocities, in loops of their
-    own (a sum carried through the step's loop would keep LLVM from vectorising it without
-    reassociation). The offsets are unsigned,
-    for which Numba adds no negative-index wraparound: with signed ones from a runtime range
-    the step ran 40 % slower. (The coupled test's ball_bat.take_slot_forces sums every slot
-    into a separate array: the same sums, but 60 % more time here on one thread.)
+    check at every node took 39 us, one thread with one slot 47-51 us). Then each block's sums
+    from the new velocities, in loops of their own (a sum carried through the step's loop would
+    keep LLVM from vectorising it without reassociation).
+
+    Compiled with NumPy's error model: Python's tests every division (half / m) for zero, a
+    branch that kept LLVM from vectorising the node loops (the masses are positive,
+    :func:`lumped_masses`; alone on one thread the update took about a fifth less, the same
+    bits). The offsets are unsigned, for which Numba adds no negative-index wraparound: with
+    signed ones from a runtime range the step ran 40 % slower. (The coupled test's
+    ball_bat.take_slot_forces sums every slot into a separate array: the same sums, but 60 %
+    more time here on one thread.)
     """
     n_points = mass.shape[0]
     first = first_block * SUM_BLOCK
