@@ -102,11 +102,12 @@ def _advance_slot(element_block, slot, factors, mesh, material, history, outputs
     internal = 0.0
     hourglass = 0.0
     bulk = 0.0
+    held = -1  # the material whose factors fill w's rows (none yet)
     for start in range(first, end, BLOCK):
         n = min(BLOCK, end - start)
         block = history[start // BLOCK]
         gather_nodes(w, start, n, xs, vs, cells)
-        gather_material(w, start, n, material[0], factors)
+        held = gather_material(w, start, n, material[0], factors, held)
         a, b, c = element_block(w, block, n, dt, q1, q2, hg_coefficient)
         scatter_outputs(w, start, n, cell_volume, cell_dt)
         scatter_forces(w, start, n, cells, slot_forces)

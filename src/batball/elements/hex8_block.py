@@ -549,15 +549,26 @@ def gather_nodes(
             w[_unsigned_at(R_V + 3 * a + 2, slot)] = v2 - ow
 
 
-@nb.njit
+@nb.njit(inline="always")
 def gather_material(
-    w: np.ndarray, start: int, n: int, cell_material: np.ndarray, factors: np.ndarray
-) -> None:
-    """The material factors of cells start..start+n-1 (a broadcast where they share one)."""
+    w: np.ndarray,
+    start: int,
+    n: int,
+    cell_material: np.ndarray,
+    factors: np.ndarray,
+    held: int = -1,
+) -> int:
+    """The material factors of cells start..start+n-1 (a broadcast where they share one); returns
+    the material whose factors now fill every slot of ``w`` (-1 if none does).
+
+    ``held`` is what the previous call returned for this ``w`` (-1 at first): a block of that one
+    material leaves the rows as they are, since the element loop only reads them."""
     first = cell_material[np.uint64(start)]
     shared = True
     for e in range(n):
         shared &= cell_material[np.uint64(start + e)] == first
+    if shared and n == BLOCK and first == held:
+        return held
     for k in range(factors.shape[1]):
         row = R_MAT + k
         if shared:
@@ -568,16 +579,20 @@ def gather_material(
             for e in range(n):
                 material = np.uint64(cell_material[np.uint64(start + e)])
                 w[_unsigned_at(row, np.uint64(e))] = factors[material, k]
+    return first if shared and n == BLOCK else -1
 
 
-@nb.njit
+@nb.njit(inline="always")
 def scatter_outputs(
     w: np.ndarray, start: int, n: int, cell_volume: np.ndarray, cell_dt: np.ndarray
 ) -> None:
-    """The volumes [m^3] and stable steps [s] of cells start..start+n-1."""
+    """The volumes [m^3] and stable steps [s] of cells start..start+n-1 (unsigned indices: no
+    negative-index wraparound, so the copies vectorise)."""
     for e in range(n):
-        cell_volume[start + e] = w[at(R_VOL, e)]
-        cell_dt[start + e] = w[at(R_DT, e)]
+        slot = np.uint64(e)
+        cell = np.uint64(start) + slot
+        cell_volume[cell] = w[_unsigned_at(R_VOL, slot)]
+        cell_dt[cell] = w[_unsigned_at(R_DT, slot)]
 
 
 @intrinsic

@@ -234,6 +234,19 @@ def test_kernel_matches_the_per_element_reference(hg_type: int) -> None:
     assert np.all(want["energy"] != 0.0)
 
 
+def test_kernel_matches_the_reference_with_materials_in_runs_of_blocks() -> None:
+    # whole blocks of one material, repeated and then switched (the kernel keeps a block's
+    # material factors for the next block of the same material), then one mixed block
+    model = distorted_model(seed=7, n=(4, 6, 11))
+    material = (np.arange(len(model["cells"])) // (2 * BLOCK)) % 2
+    material[5 * BLOCK : 6 * BLOCK : 7] = 1
+    model["cell_material"] = material
+    got = run_kernel(model, 1, qh=0.1, q1=1.5, q2=0.06, n_chunks=2)
+    want = run_reference(model, 1, 0.1, 1.5, 0.06)
+    for key in ("forces", "volume", "dt", "s_inf", "h", "pressure"):
+        assert_close(got[key], want[key])
+
+
 @pytest.mark.parametrize("hg_type", [1, 2, 4])
 def test_single_precision_kernel_matches_the_reference_to_float32_round_off(hg_type: int) -> None:
     # float32 has eps = 2**-24 = 6e-8. Volumes, steps and the rotated stresses come from a few
