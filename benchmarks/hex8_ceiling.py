@@ -1,0 +1,194 @@
+"""How fast the full-size CCOR solver could run on this machine: the hex kernel's parts and a bound.
+
+The CCOR goal is a rate (hex element-cycles per second per GFLOP/s of SGEMM). This script
+measures where a cycle's time goes on one thread, and what the hex kernel's vector loop would
+take if each of its vector floating-point instructions issued at the machine's vector-FMA rate.
+From these it prints the solver's rate as measured, with the data movement of the kernel free,
+with its element loop at that rate, and with both:
+
+* the cycle, timed by part on the 95 mph CCOR solver of ball type 1 (12,096 hexes, single
+  precision, IHQ 1, after ``--cycles`` cycles): the whole hex kernel (``compute_hex8_forces``),
+  its node gather (``hex8_block.gather_nodes``), its force scatter (``scatter_forces``), the
+  material factors and the volumes and steps copied (``gather_material``, ``scatter_outputs``),
+  each alone over all blocks; the element loop (``element_block``) is the kernel less those;
+  the rest of the cycle (contact, step, update, records) from the solver's own phase clock over
+  full cycles of a second solver. The parts alternate in rounds; each figure is the median;
+* the element loop's instructions, read from its assembly (compiled alone here; the kernel
+  inlines the same function): the one-block loop with the most instructions on the widest
+  vector register, split into vector floating-point instructions (arithmetic, FMA, division,
+  square root, compares, selects, logic, conversions), vector moves, and moves that address
+  the stack (spills and reloads);
+* the yardstick: NumPy SGEMM on one thread (``yardstick.py``), measured in every round (a
+  shared host's speed drifts within seconds) and taken as 2 x lanes flops per vector FMA
+  instruction: the rate at which this machine issues vector FMAs on dense work.
+
+The bound is optimistic: every vector floating-point instruction at the FMA rate (divisions and
+square roots are slower) and every move free. Usage:
+
+    python benchmarks/hex8_ceiling.py [--cycles 40] [--calls 20] [--rounds 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import statistics
+import time
+from collections.abc import Callable
+
+import numba as nb
+import numpy as np
+from bench_hex8_kernel import kernel_call, loaded_solver
+from yardstick import cpu_description, gemm_gflops
+
+from batball.elements import hex8_block as hb
+from batball.elements.hex8 import kernel_ids
+from batball.numerics import wide_vectors
+
+#: The goal of the CCOR solver: hex element-cycles per second per GFLOP/s of SGEMM.
+GOAL = 2e5
+
+#: Mnemonic prefixes of vector floating-point work (arithmetic ports), as opposed to moves.
+_FP = ("vadd", "vsub", "vmul", "vfmadd", "vfmsub", "vfnmadd", "vfnmsub", "vdiv", "vsqrt",
+       "vmax", "vmin", "vrcp", "vrsqrt", "vrndscale", "vcvt", "vand", "vor", "vxor", "vcmp",
+       "vblend", "vpternlog", "vpadd", "vpsub", "vpsll", "vpsrl", "vpand", "vpor", "vpxor",
+       "vpcmp", "vpmul", "vperm", "vshuf", "vunpck")  # fmt: skip
+
+
+@nb.njit
+def _gather_all(w, xs, vs, cells, n_cells):  # noqa: ANN001, ANN202
+    for start in range(0, n_cells, hb.BLOCK):
+        hb.gather_nodes(w, start, min(hb.BLOCK, n_cells - start), xs, vs, cells)
+
+
+@nb.njit
+def _scatter_all(w, cells, forces, n_cells):  # noqa: ANN001, ANN202
+    for start in range(0, n_cells, hb.BLOCK):
+        hb.scatter_forces(w, start, min(hb.BLOCK, n_cells - start), cells, forces)
+
+
+@nb.njit
+def _copies_all(w, cell_material, factors, volume, dt, n_cells):  # noqa: ANN001, ANN202
+    held = -1  # as the kernel calls them: a block of the material w holds is not copied
+    for start in range(0, n_cells, hb.BLOCK):
+        n = min(hb.BLOCK, n_cells - start)
+        held = hb.gather_material(w, start, n, cell_material, factors, held)
+        hb.scatter_outputs(w, start, n, volume, dt)
+
+
+def vector_loop(asm: str, register: str) -> list[list[str]]:
+    """The instructions (mnemonic and operands) of the loop of one basic block, jumping back to
+    its own label, that holds the most instructions on ``register`` (``zmm`` or ``ymm``)."""
+    best: list[list[str]] = []
+    label, body = None, []
+    for line in asm.splitlines():
+        if re.match(r"^\.LBB\w+:", line):
+            label, body = line.split(":")[0], []
+        elif line.startswith("\t") and not line.startswith("\t.") and label is not None:
+            parts = line.split(None, 1)
+            body.append([parts[0], parts[1] if len(parts) > 1 else ""])
+            if parts[0].startswith("j") and parts[-1].strip() == label:
+                count = sum(register in b[1] for b in body)
+                if count > sum(register in b[1] for b in best):
+                    best = list(body)
+    return best
+
+
+def instruction_mix(loop: list[list[str]], register: str) -> dict[str, int]:
+    """Counts of the loop's vector floating-point instructions, vector memory moves, and moves
+    that address the stack (``rsp``: spills and reloads)."""
+    vector = [b for b in loop if register in b[1]]
+    fp = [b for b in vector if b[0].startswith(_FP)]
+    moves = [b for b in vector if b[0].startswith(("vmov", "vbroadcast"))]
+    return {
+        "instructions": len(loop),
+        "vector": len(vector),
+        "vector floating point": len(fp),
+        "divisions and square roots": sum(b[0].startswith(("vdiv", "vsqrt")) for b in fp),
+        "vector moves": len(moves),
+        "stack moves": sum("rsp" in b[1] for b in moves),
+    }
+
+
+def _seconds(call: Callable[[], object], calls: int) -> float:
+    call()
+    start = time.perf_counter()
+    for _ in range(calls):
+        call()
+    return (time.perf_counter() - start) / calls
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cycles", type=int, default=40)
+    parser.add_argument("--calls", type=int, default=20)
+    parser.add_argument("--rounds", type=int, default=5)
+    args = parser.parse_args()
+    cpu = cpu_description()
+    print(f"{cpu['model']}, {cpu['vector_bits']}-bit vectors, {cpu['logical_cpus']} logical CPUs")
+    nb.set_num_threads(1)
+    solver = loaded_solver(1, args.cycles)  # the parts called alone (their sums pile up)
+    cycling = loaded_solver(1, args.cycles)  # full cycles, for the rest of the cycle
+    state, work, model = solver.state, solver.work, solver.model
+    cells, n_cells = kernel_ids(work.cells), model.mesh.n_cells
+    xs, vs = state.points.reshape(-1), state.velocities.reshape(-1)
+    w = np.zeros(hb.N_ROWS * hb.BLOCK, dtype=state.history.dtype)
+    factors = hb.material_factors(model.material_constants, model.densities, float(state.dt))
+    forces = np.zeros_like(xs)
+    volume, step = np.empty(n_cells), np.empty(n_cells)
+    material = kernel_ids(work.cell_material)
+    kernel = kernel_call(solver)
+    parts: dict[str, Callable[[], object]] = {
+        "kernel": kernel,
+        "gather": lambda: _gather_all(w, xs, vs, cells, n_cells),
+        "scatter": lambda: _scatter_all(w, cells, forces, n_cells),
+        "copies": lambda: _copies_all(w, material, factors, volume, step, n_cells),
+    }
+    times: dict[str, list[float]] = {name: [] for name in [*parts, "rest of cycle"]}
+    sgemms = []
+    for _ in range(args.rounds):
+        sgemms.append(gemm_gflops(1)["sgemm"])
+        for name, call in parts.items():
+            times[name].append(_seconds(call, args.calls))
+        cycling.phase_seconds["rest_of_cycle"] = 0.0
+        for _ in range(args.calls):
+            cycling.cycle()
+        times["rest of cycle"].append(cycling.phase_seconds["rest_of_cycle"] / args.calls)
+    t = {name: statistics.median(values) for name, values in times.items()}
+    t["element loop"] = t["kernel"] - t["gather"] - t["scatter"] - t["copies"]
+    sgemm = statistics.median(sgemms)
+
+    wide = wide_vectors()
+    register, lanes = ("zmm", 16) if wide else ("ymm", 8)
+    block = hb.element_block_viscous  # compiled alone here (the kernel inlines it)
+    block(w.copy(), state.history[0].copy(), hb.BLOCK, float(state.dt), 1.5, 0.06, 0.1)
+    signature = next(s for s in block.signatures if s[0].dtype == nb.float32)
+    mix = instruction_mix(vector_loop(block.inspect_asm(signature), register), register)
+    fma_rate = sgemm * 1e9 / (2 * lanes)  # vector FMA instructions per second
+    bound = mix["vector floating point"] * n_cells / lanes / fma_rate
+
+    print(f"SGEMM {sgemm:.1f} GFLOP/s on 1 thread (rounds {min(sgemms):.0f}-{max(sgemms):.0f}): "
+          f"{fma_rate / 1e9:.2f} G {lanes}-lane FMA instructions/s; {n_cells} hexes, medians of "
+          f"{args.rounds} rounds")  # fmt: skip
+    for name in ("kernel", "gather", "element loop", "scatter", "copies", "rest of cycle"):
+        print(f"  {name:>14}: {t[name] * 1e6:8.1f} us a cycle")
+    counts = ", ".join(f"{value} {key}" for key, value in mix.items())
+    print(f"  element loop, {lanes} cells an iteration: {counts}")
+    print(f"  element loop at the FMA rate: {bound * 1e6:.1f} us a cycle "
+          f"({bound / t['element loop']:.0%} of its measured time)")  # fmt: skip
+    cycle = t["kernel"] + t["rest of cycle"]
+    moves = t["gather"] + t["scatter"] + t["copies"]
+    at_peak = cycle - t["element loop"] + bound
+    for label, seconds in (
+        ("as measured", cycle),
+        ("gather, scatter and copies free", cycle - moves),
+        ("element loop at the FMA rate", at_peak),
+        ("both", at_peak - moves),
+    ):
+        rate = n_cells / seconds
+        print(f"  solver, {label}: {rate / 1e6:.1f} M element-cycles/s, {rate / sgemm:.3g} per "
+              f"GFLOP/s of SGEMM (goal {GOAL:.0e})")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
