@@ -413,28 +413,27 @@ def _node_offset(cells: np.ndarray, cell: np.uint64, a: int) -> np.uint64:
     return np.uint64(3) * np.uint64(cells[cell, a])
 
 
-#: Cells the node gather moves at once (BLOCK is a multiple of it); _lane_offsets and
-#: _lane_values spell out the eight.
+#: Cells the node gather moves at once (BLOCK is a multiple of it); _lane_offsets spells out
+#: the eight.
 GATHER_LANES = 8
 
 
 @intrinsic
-def _gather_rows(typingctx, w, index, nodal, offsets, origin):  # noqa: ANN001, ANN202
-    """Three rows of the block scratch from eight nodes: ``w[index + i BLOCK + k] =
-    nodal[offsets[k] + i] - origin[i][k]`` for i < 3 and k < GATHER_LANES, the difference taken
-    in double and rounded once to the precision of ``w``: what the scalar loop stores, with
-    each node's (x, y) loaded as a pair, the differences rounded a vector at a time and each
-    row stored as one vector instead of eight scalars (LLVM does not find this in the scalar
-    loop)."""
+def _gather_cell_rows(typingctx, w, index, nodal, offsets):  # noqa: ANN001, ANN202
+    """The 24 rows of one nodal array in the block scratch, for GATHER_LANES cells: ``w[index
+    + (3 a + i) BLOCK + k] = nodal[offsets[a][k] + i]`` for node a < 8, component i < 3 and
+    cell k < GATHER_LANES, less ``nodal[offsets[0][k] + i]`` (the cell's first node) where
+    ``w`` is single precision; the difference taken in double and rounded once. What the
+    scalar loop stores, with each node's values loaded as pairs (:func:`transposed_lanes`),
+    each row rounded and stored as one vector, and the first node's rows, already in
+    registers, serving as the origin (LLVM does none of this in the scalar loop)."""
     lanes = types.UniTuple(types.uint64, GATHER_LANES)
-    origins = types.UniTuple(types.UniTuple(types.float64, GATHER_LANES), 3)
     if (
         not isinstance(w, types.Array)
         or w.dtype not in (types.float32, types.float64)
         or nodal != types.Array(types.float64, 1, "C")
         or index != types.uint64
-        or offsets != lanes
-        or origin != origins
+        or offsets != types.UniTuple(lanes, 8)
     ):
         return None
 
@@ -443,26 +442,28 @@ def _gather_rows(typingctx, w, index, nodal, offsets, origin):  # noqa: ANN001, 
         data = context.make_array(signature.args[2])(context, builder, value=args[2]).data
         element = context.get_value_type(signature.args[0].dtype)
         row_type = ir.VectorType(element, GATHER_LANES)
-        for i, values in enumerate(transposed_lanes(builder, data, args[3], 3)):
-            o = ir.Constant(values.type, ir.Undefined)
-            for k in range(GATHER_LANES):
-                o = builder.insert_element(
-                    o, builder.extract_value(args[4], [i, k]), ir.Constant(ir.IntType(32), k)
-                )
-            row = builder.fsub(values, o)
-            if element != ir.DoubleType():
-                row = builder.fptrunc(row, row_type)
-            at_row = builder.add(args[1], ir.Constant(ir.IntType(64), i * BLOCK))
-            target = builder.bitcast(builder.gep(scratch.data, [at_row]), row_type.as_pointer())
-            builder.store(row, target, align=signature.args[0].dtype.bitwidth // 8)
+        relative = element != ir.DoubleType()
+        first = transposed_lanes(builder, data, builder.extract_value(args[3], 0), 3)
+        for a in range(8):
+            rows = first if a == 0 else transposed_lanes(
+                builder, data, builder.extract_value(args[3], a), 3
+            )  # fmt: skip
+            for i, values in enumerate(rows):
+                row = builder.fsub(values, first[i]) if relative else values
+                if relative:
+                    row = builder.fptrunc(row, row_type)
+                at_row = builder.add(args[1], ir.Constant(ir.IntType(64), (3 * a + i) * BLOCK))
+                target = builder.gep(scratch.data, [at_row])
+                target = builder.bitcast(target, row_type.as_pointer())
+                builder.store(row, target, align=signature.args[0].dtype.bitwidth // 8)
         return context.get_dummy_value()
 
-    return types.none(w, index, nodal, offsets, origin), codegen
+    return types.none(w, index, nodal, offsets), codegen
 
 
 #: Typed view of the intrinsic for mypy (the same object for Numba).
-gather_rows = cast(
-    "Callable[[np.ndarray, np.uint64, np.ndarray, tuple, tuple], None]", _gather_rows
+gather_cell_rows = cast(
+    "Callable[[np.ndarray, np.uint64, np.ndarray, tuple], None]", _gather_cell_rows
 )
 
 
@@ -474,28 +475,6 @@ def _lane_offsets(cells: np.ndarray, cell: np.uint64, a: int) -> tuple:
             _node_offset(cells, cell + u(2), a), _node_offset(cells, cell + u(3), a),
             _node_offset(cells, cell + u(4), a), _node_offset(cells, cell + u(5), a),
             _node_offset(cells, cell + u(6), a), _node_offset(cells, cell + u(7), a))  # fmt: skip
-
-
-@nb.njit(inline="always")
-def _lane_values(flat: np.ndarray, offsets: tuple, i: int) -> tuple:
-    """Component ``i`` of the GATHER_LANES node vectors at ``offsets``."""
-    u = np.uint64(i)
-    return (flat[offsets[0] + u], flat[offsets[1] + u], flat[offsets[2] + u],
-            flat[offsets[3] + u], flat[offsets[4] + u], flat[offsets[5] + u],
-            flat[offsets[6] + u], flat[offsets[7] + u])  # fmt: skip
-
-
-_NO_LANES = (0.0,) * GATHER_LANES
-_NO_ORIGIN = (_NO_LANES, _NO_LANES, _NO_LANES)
-
-
-@nb.njit(inline="always")
-def _lane_origin(flat: np.ndarray, first: tuple, relative: bool) -> tuple:
-    """The first nodes' vectors (3 x GATHER_LANES) where ``relative``, else zeros."""
-    if relative:
-        return (_lane_values(flat, first, 0), _lane_values(flat, first, 1),
-                _lane_values(flat, first, 2))  # fmt: skip
-    return _NO_ORIGIN
 
 
 @nb.njit(fastmath=FASTMATH)
@@ -512,20 +491,19 @@ def gather_nodes(
     (a ball at 0.05 m flying at 42 m/s would lose them to its position and speed in float32).
     Double precision takes the values as they are (less zero: the same bits).
 
-    GATHER_LANES cells at a time (:func:`_gather_rows`), the rest one by one; both store the
-    same values."""
+    GATHER_LANES cells at a time (:func:`_gather_cell_rows`), the rest one by one; both store
+    the same values."""
     relative = w.itemsize == 4
     whole = n - n % GATHER_LANES
     for e0 in range(0, whole, GATHER_LANES):
         cell = np.uint64(start + e0)
         slot = np.uint64(e0)
-        firsts = _lane_offsets(cells, cell, 0)
-        x_origin = _lane_origin(xs, firsts, relative)
-        v_origin = _lane_origin(vs, firsts, relative)
-        for a in range(8):
-            nodes = _lane_offsets(cells, cell, a)
-            gather_rows(w, _unsigned_at(R_X + 3 * a, slot), xs, nodes, x_origin)
-            gather_rows(w, _unsigned_at(R_V + 3 * a, slot), vs, nodes, v_origin)
+        nodes = (_lane_offsets(cells, cell, 0), _lane_offsets(cells, cell, 1),
+                 _lane_offsets(cells, cell, 2), _lane_offsets(cells, cell, 3),
+                 _lane_offsets(cells, cell, 4), _lane_offsets(cells, cell, 5),
+                 _lane_offsets(cells, cell, 6), _lane_offsets(cells, cell, 7))  # fmt: skip
+        gather_cell_rows(w, _unsigned_at(R_X, slot), xs, nodes)
+        gather_cell_rows(w, _unsigned_at(R_V, slot), vs, nodes)
     # unsigned indices into flat views: no negative-index wraparound, no row strides
     for e in range(whole, n):
         cell = np.uint64(start + e)
