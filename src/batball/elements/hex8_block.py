@@ -489,7 +489,8 @@ def gather_nodes(
     The kernel uses only the modal sums of modes 1..7, which do not see a common translation or
     velocity; relative values keep the digits of the element's own shape and deformation rate
     (a ball at 0.05 m flying at 42 m/s would lose them to its position and speed in float32).
-    Double precision takes the values as they are (less zero: the same bits).
+    Double precision takes the values as they are (the scalar path subtracts zero: the same
+    bits).
 
     GATHER_LANES cells at a time (:func:`_gather_cell_rows`), the rest one by one; both store
     the same values."""
