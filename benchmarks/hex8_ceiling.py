@@ -163,7 +163,11 @@ def main() -> None:
     block = hb.element_block_viscous  # compiled alone here (the kernel inlines it)
     block(w.copy(), state.history[0].copy(), hb.BLOCK, float(state.dt), 1.5, 0.06, 0.1)
     signature = next(s for s in block.signatures if s[0].dtype == nb.float32)
-    mix = instruction_mix(vector_loop(block.inspect_asm(signature), register), register)
+    loop = vector_loop(block.inspect_asm(signature), register)
+    if not loop:
+        raise SystemExit(f"no one-block loop on {register} registers in the element loop's "
+                         "assembly: a vector width this bound does not know")  # fmt: skip
+    mix = instruction_mix(loop, register)
     fma_rate = sgemm * 1e9 / (2 * lanes)  # vector FMA instructions per second
     bound = mix["vector floating point"] * n_cells / lanes / fma_rate
 
