@@ -16,8 +16,8 @@ with its element loop at that rate, and with both:
 * the element loop's instructions, read from its assembly (compiled alone here; the kernel
   inlines the same function): the one-block loop with the most instructions on the widest
   vector register, split into vector floating-point instructions (arithmetic, FMA, division,
-  square root, compares, selects, logic, conversions), vector moves, and moves that address
-  the stack (spills and reloads);
+  square root, compares, selects, logic, conversions, shuffles), vector moves, and moves that
+  address the stack (spills and reloads);
 * the yardstick: NumPy SGEMM on one thread (``yardstick.py``), measured in every round (a
   shared host's speed drifts within seconds) and taken as 2 x lanes flops per vector FMA
   instruction: the rate at which this machine issues vector FMAs on dense work.
@@ -33,12 +33,11 @@ from __future__ import annotations
 import argparse
 import re
 import statistics
-import time
 from collections.abc import Callable
 
 import numba as nb
 import numpy as np
-from bench_hex8_kernel import kernel_call, loaded_solver
+from bench_hex8_kernel import kernel_call, loaded_solver, seconds_per_call
 from yardstick import cpu_description, gemm_gflops
 
 from batball.elements import hex8_block as hb
@@ -48,7 +47,8 @@ from batball.numerics import wide_vectors
 #: The goal of the CCOR solver: hex element-cycles per second per GFLOP/s of SGEMM.
 GOAL = 2e5
 
-#: Mnemonic prefixes of vector floating-point work (arithmetic ports), as opposed to moves.
+#: Mnemonic prefixes of vector floating-point work (the vector ALU ports: arithmetic, logic,
+#: conversions and shuffles), as opposed to moves.
 _FP = ("vadd", "vsub", "vmul", "vfmadd", "vfmsub", "vfnmadd", "vfnmsub", "vdiv", "vsqrt",
        "vmax", "vmin", "vrcp", "vrsqrt", "vrndscale", "vcvt", "vand", "vor", "vxor", "vcmp",
        "vblend", "vpternlog", "vpadd", "vpsub", "vpsll", "vpsrl", "vpand", "vpor", "vpxor",
@@ -110,20 +110,15 @@ def instruction_mix(loop: list[list[str]], register: str) -> dict[str, int]:
     }
 
 
-def _seconds(call: Callable[[], object], calls: int) -> float:
-    call()
-    start = time.perf_counter()
-    for _ in range(calls):
-        call()
-    return (time.perf_counter() - start) / calls
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cycles", type=int, default=40)
     parser.add_argument("--calls", type=int, default=20)
     parser.add_argument("--rounds", type=int, default=5)
     args = parser.parse_args()
+    for name in ("cycles", "calls", "rounds"):
+        if getattr(args, name) < 1:
+            parser.error(f"--{name}: {getattr(args, name)} is not allowed; expected 1 or more")
     cpu = cpu_description()
     print(f"{cpu['model']}, {cpu['vector_bits']}-bit vectors, {cpu['logical_cpus']} logical CPUs")
     nb.set_num_threads(1)
@@ -149,13 +144,16 @@ def main() -> None:
     for _ in range(args.rounds):
         sgemms.append(gemm_gflops(1)["sgemm"])
         for name, call in parts.items():
-            times[name].append(_seconds(call, args.calls))
+            times[name].extend(seconds_per_call(call, args.calls, 1))
         cycling.phase_seconds["rest_of_cycle"] = 0.0
         for _ in range(args.calls):
             cycling.cycle()
         times["rest of cycle"].append(cycling.phase_seconds["rest_of_cycle"] / args.calls)
     t = {name: statistics.median(values) for name, values in times.items()}
     t["element loop"] = t["kernel"] - t["gather"] - t["scatter"] - t["copies"]
+    if t["element loop"] <= 0.0:
+        raise SystemExit("the kernel took less than its gather, scatter and copies alone: the "
+                         "host's load changed within a round; run again")  # fmt: skip
     sgemm = statistics.median(sgemms)
 
     wide = wide_vectors()
