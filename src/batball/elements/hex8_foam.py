@@ -41,6 +41,7 @@ import numba as nb
 import numpy as np
 
 from batball.elements.hex8 import kernel_ids, slot_cells
+from batball.elements.hex8_block import add_pair
 from batball.elements.hex8_geometry import (
     modal_largest_face_area,
     modal_sums,
@@ -432,32 +433,57 @@ def foam_response(n, keep, saved, response, rho0, damp, controls, step_factors):
 
 
 @nb.njit(inline="always")
-def foam_store(e, lane, cells, state, outputs, work_space):
-    """The last pass for cell ``e`` in lane ``lane``: its history (the new rate stress and
-    stress, or the row as it was for a cell without volume), hourglass forces, nodal forces
-    (added into the slot's flat array), volume and stable step from the ``response`` rows;
-    returns its work [J] as (internal, hourglass, bulk viscosity)."""
+def _row(row: int, lane: np.uint64) -> np.uint64:
+    """Unsigned offset of lane ``lane`` of row ``row`` of a block array (as :func:`_at`, with
+    no negative-index wraparound for Numba to add to the per-cell passes)."""
+    return np.uint64(row) * np.uint64(EIGEN_LANES) + lane
+
+
+@nb.njit(inline="always")
+def foam_store(start, n, cells, state, outputs, work_space, sums):
+    """The last pass over cells start..start+n-1: their history (the new rate stress and
+    stress, or the row as it was for a cell without volume), hourglass forces, volumes and
+    stable steps, then their nodal forces added into the slot's flat array, from the
+    ``response`` rows; returns ``sums``, the running (internal, hourglass, bulk viscosity) work
+    [J], with theirs added in cell order.
+
+    One loop a kind of output, with unsigned offsets (no negative-index wraparound): a cell at
+    a time, with every output in one loop body, this pass took four times as long. The forces
+    go in cell order and each node's pair of x and y as one update (``add_pair``): the same
+    sums as one cell at a time."""
     history, hg_state = state
     nodal, cell_volume, cell_dt = outputs
     saved, response = work_space[1], work_space[5]
-    cell = cells[e]
-    row = history[e]
-    vol = response[_at(R_VOL, lane)]
-    if vol > 0.0:
-        _store6(row, H_RATE_STRESS, _lane_six(response, R_RATE, lane))
-        _store6(row, H_STRESS, _lane_six(response, R_TOTAL, lane))
-    else:
-        for k in range(N_HISTORY):
-            row[k] = saved[_at(k, lane)]
-    for mode in range(4):
-        for i in range(3):
-            hg_state[e, mode, i] = response[_at(R_HG + 3 * mode + i, lane)]
-    for a in range(8):
-        for i in range(3):
-            nodal[_node(cell, a, i)] += response[_at(R_FORCES + 8 * i + a, lane)]
-    cell_volume[e] = vol
-    cell_dt[e] = response[_at(R_DT, lane)]
-    return _lane_vector(response, R_WORK, lane)
+    lanes = np.uint64(n)
+    first = np.uint64(start)
+    for lane in range(lanes):
+        e = first + lane
+        if response[_row(R_VOL, lane)] > 0.0:
+            for k in range(6):
+                history[e, H_RATE_STRESS + k] = response[_row(R_RATE + k, lane)]
+                history[e, H_STRESS + k] = response[_row(R_TOTAL + k, lane)]
+        else:
+            for k in range(N_HISTORY):
+                history[e, k] = saved[_row(k, lane)]
+        for mode in range(4):
+            for i in range(3):
+                hg_state[e, mode, i] = response[_row(R_HG + 3 * mode + i, lane)]
+    for lane in range(lanes):
+        cell_volume[first + lane] = response[_row(R_VOL, lane)]
+        cell_dt[first + lane] = response[_row(R_DT, lane)]
+    for lane in range(lanes):
+        e = first + lane
+        for a in range(8):
+            node = np.uint64(3) * np.uint64(cells[e, a])
+            x = response[_row(R_FORCES + a, lane)]
+            add_pair(nodal, node, x, response[_row(R_FORCES + 8 + a, lane)])
+            nodal[node + np.uint64(2)] += response[_row(R_FORCES + 16 + a, lane)]
+    internal, hourglass, bulk = sums
+    for lane in range(lanes):
+        internal += response[_row(R_WORK, lane)]
+        hourglass += response[_row(R_WORK + 1, lane)]
+        bulk += response[_row(R_WORK + 2, lane)]
+    return internal, hourglass, bulk
 
 
 @nb.njit
@@ -468,19 +494,17 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
     cell's b = F F^T (:func:`foam_kinematics`, SIMD across the block), the block's
     eigen-decompositions and the law run for the block at once (:func:`foam_law`), the
     element response SIMD across the block again
-    (:func:`foam_response`), and a last pass stores each cell's history and adds its forces in
-    cell order (:func:`foam_store`). Each SIMD pass does what one cell at a time did, in the
-    same order and without fast-math: the same bits. The per-cell passes are inlined: called
-    per cell, their arguments (some twenty arrays) were copied at every call."""
+    (:func:`foam_response`), and a last pass stores the cells' history and adds their forces
+    in cell order (:func:`foam_store`). Each SIMD pass does what one cell at a time did, in the
+    same order and without fast-math: the same bits. The passes are inlined: called per cell,
+    their arguments (some twenty arrays) were copied at every call."""
     work_space = (law_block(), np.empty(N_HISTORY * EIGEN_LANES),
                   np.empty(N_KEEP * EIGEN_LANES), eigen_block(), np.empty(N_GATHER * EIGEN_LANES),
                   np.empty(N_RESPONSE * EIGEN_LANES))  # fmt: skip
     params, dt = material[2][0], controls[0]
     decay, scale = viscoelastic_step_factors(0.5 * params[P_ED], 0.0, params[P_BETA1], dt)
     weight = rate_filter_weight(params[P_RATE_FILTER], dt)
-    internal = 0.0
-    hourglass = 0.0
-    bulk = 0.0
+    sums = (0.0, 0.0, 0.0)
     for start in range(first, end, EIGEN_LANES):
         n = min(EIGEN_LANES, end - start)
         foam_kinematics(start, n, mesh, controls[0], work_space[2], work_space[3], work_space[4])
@@ -488,12 +512,8 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
         foam_law(start, n, material[2], state, material[1], work_space, weight)
         foam_response(n, work_space[2], work_space[1], work_space[5], material[0],
                       params[P_DAMP], controls, (decay, scale))  # fmt: skip
-        for lane in range(n):
-            work = foam_store(start + lane, lane, mesh[2], state, outputs, work_space)
-            internal += work[0]
-            hourglass += work[1]
-            bulk += work[2]
-    return internal, hourglass, bulk
+        sums = foam_store(start, n, mesh[2], state, outputs, work_space, sums)
+    return sums
 
 
 @nb.njit(parallel=True, cache=True)

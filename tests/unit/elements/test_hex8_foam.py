@@ -103,3 +103,32 @@ def test_each_cell_is_the_same_whichever_cells_share_its_block() -> None:
     for a, b in zip(forward[:4], backward[:4], strict=True):
         assert np.array_equal(a, b)
     assert np.abs(forward[4] - backward[4]).max() <= 1e-12 * np.abs(forward[4]).max()
+
+
+def test_a_cell_without_volume_keeps_its_history_and_adds_no_forces() -> None:
+    """An inverted cell (its top and bottom faces swapped: negative volume) beside a compressed
+    one: the kernel must leave the inverted cell's whole history row as it was (the law's
+    filtered rate and W_max included), give it a zero step and no nodal forces, and still
+    update the healthy cell. The rows start from random values, so a row rewritten from
+    anything else cannot match."""
+    corners = REFERENCE_CORNERS * SIDE / 2.0
+    reference = np.vstack([corners, corners + [3.0 * SIDE, 0.0, 0.0]])
+    points = reference.copy()
+    points[:8, 2] *= 0.9  # compressed 10 %
+    points[8:, 2] *= -1.0  # inverted
+    cells = np.arange(16, dtype=np.int32).reshape(2, 8)
+    rng = np.random.default_rng(11)
+    history = rng.uniform(0.1, 1.0, (2, N_FOAM_HISTORY))
+    before = history.copy()
+    forces, volume, step = np.zeros((1, 16, 3)), np.zeros(2), np.zeros(2)
+    compute_foam_forces(
+        points, np.zeros((16, 3)), cells, foam_reference_gradients(cells, reference), 1e-7,
+        DENSITY, np.full(2, SIDE**3), load_ball_spec("type1-fit").material.foam_table().arrays(),
+        history, np.zeros((2, 4, 3)), 1, 0.1, 1.5, 0.06, forces, volume, step, np.zeros((1, 3)),
+    )  # fmt: skip
+    assert volume[1] < 0.0 and step[1] == 0.0
+    assert np.array_equal(history[1], before[1])
+    assert np.all(forces[0, 8:] == 0.0)
+    assert volume[0] > 0.0 and step[0] > 0.0
+    assert not np.array_equal(history[0], before[0])
+    assert np.abs(forces[0, :8]).max() > 0.0
