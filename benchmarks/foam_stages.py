@@ -32,9 +32,8 @@ PASSES = ("kinematics", "eigen", "law", "response", "store")
 
 
 @nb.njit
-def _first_passes(foam_response, passes, mesh, material, state, outputs, controls):  # noqa: ANN001, ANN202
-    """The foam kernel's block loop over all cells (one slot) with its first ``passes`` passes
-    (``foam_response`` the third pass of the run's hourglass form)."""
+def _first_passes(passes, mesh, material, state, outputs, controls):  # noqa: ANN001, ANN202
+    """The foam kernel's block loop over all cells (one slot) with its first ``passes`` passes."""
     n_cells = mesh[2].shape[0]
     lanes = fu.EIGEN_LANES
     work_space = (fu.law_block(), np.empty(fu.N_HISTORY * lanes), np.empty(hf.N_KEEP * lanes),
@@ -52,7 +51,7 @@ def _first_passes(foam_response, passes, mesh, material, state, outputs, control
         if passes >= 3:
             hf.foam_law(start, n, material[2], state, material[1], work_space, weight)
         if passes >= 4:
-            foam_response(n, work_space[2], work_space[1], work_space[5], material[0],
+            hf.foam_response(n, work_space[2], work_space[1], work_space[5], material[0],
                              params[P_DAMP], controls, (decay, scale))  # fmt: skip
         if passes >= 5:
             sums = hf.foam_store(start, n, mesh[2], state, outputs, work_space, sums)
@@ -83,12 +82,11 @@ def main() -> None:
     # the passes run on copies of the history (the law and the store write it)
     state = (s.foam_history.copy(), s.hg_state.copy())
     outputs = (np.zeros(s.points.size), np.empty(n_cells), np.empty(n_cells))
-    controls = (float(s.dt), float(w.q1), float(w.q2), float(hourglass.coefficient))
-    response = hf.foam_response_for(hourglass.type)
+    controls = (float(s.dt), float(w.q1), float(w.q2), float(hourglass.coefficient),
+                hourglass.type >= 2, hourglass.type >= 4)  # fmt: skip
 
     def first(passes: int):  # noqa: ANN202
-        return lambda: _first_passes(response, passes, mesh, material, state, outputs,
-                                     controls)  # fmt: skip
+        return lambda: _first_passes(passes, mesh, material, state, outputs, controls)
 
     calls = {f"first {k}": first(k) for k in range(1, len(PASSES) + 1)}
     calls["kernel"] = kernel_call(solver)

@@ -16,7 +16,7 @@ its geometry, hourglass control, bulk viscosity, nodal forces and stable step (`
    square roots), run for a block of cells at once, SIMD across the cells, after a first pass
    over the block's cells (kinematics, b; SIMD); so does the law, its branches as selects and
    its curve look-ups one curve point at a time across the block; steps 3-5 are again one pass
-   SIMD across the block: the same bits as one cell at a time;
+   over the block (scalar code, :func:`foam_response`): the same bits as one cell at a time;
 3. MAT_057's rate stress (ED, BETA1), a Maxwell stress E_d int exp(-beta_1 (t - s)) D ds
    rotated by the step's Hughes-Winget rotation like MAT_006's deviator;
 4. the DAMP stress DAMP rho c L_e D with L_e = V / A_max, the time step's length (so that the
@@ -371,30 +371,20 @@ def foam_law(start, n, table, state, volume0, work_space, weight):
         _store_lane_six(response, R_SIGMA, lane, voigt)
 
 
-def _make_foam_response(fb: bool, stiff: bool):  # noqa: ANN202
-    """The third pass for one hourglass form (``fb``, ``stiff`` as ``element_response`` takes
-    them), fixed when it compiles: with the form a run-time flag, LLVM left the loop scalar."""
+@nb.njit(error_model="numpy")
+def foam_response(n, keep, saved, response, rho0, damp, controls, step_factors):
+    """The third pass over a block's n cells (module docstring, steps 3-5), one loop over the
+    lanes: the rate stress, the DAMP stress, the element response (pressure none, bulk
+    viscosity, hourglass forces, nodal forces, stable step) from the ``keep``, ``saved`` and
+    ``response`` rows, into the ``response`` rows. ``damp`` is the foam's DAMP, ``controls``
+    (dt, q1, q2, QH/QM, fb, stiff) and ``step_factors`` (decay, scale) of the rate stress. The
+    same operations in the same order as one cell at a time (no fast-math), the same bits;
+    NumPy's error model, so a degenerate cell gives inf or NaN, not an exception.
 
-    @nb.njit(error_model="numpy")
-    def foam_response(n, keep, saved, response, rho0, damp, controls, step_factors):
-        """The third pass over a block's n cells (module docstring, steps 3-5), one loop over
-        the lanes that LLVM vectorises: the rate stress, the DAMP stress, the element response
-        (pressure none, bulk viscosity, hourglass forces, nodal forces, stable step) from the
-        ``keep``, ``saved`` and ``response`` rows, into the ``response`` rows. ``damp`` is the
-        foam's DAMP, ``controls`` (dt, q1, q2, QH/QM) and ``step_factors`` (decay, scale) of
-        the rate stress. The same operations in the same order as one cell at a time (no
-        fast-math), the same bits; NumPy's error model, so a degenerate cell gives inf or NaN,
-        not an exception."""
-        _foam_response_lanes(n, keep, saved, response, rho0, damp, controls, step_factors,
-                             fb, stiff)  # fmt: skip
-
-    return foam_response
-
-
-@nb.njit(inline="always")
-def _foam_response_lanes(n, keep, saved, response, rho0, damp, controls, step_factors, fb, stiff):
-    """The body of :func:`_make_foam_response`'s pass, ``fb`` and ``stiff`` constants there."""
-    dt, q1, q2, hg_coefficient = controls
+    With the hourglass form (fb, stiff) a run-time flag, LLVM compiles this loop to scalar
+    code. Compiled per form, the IHQ 1 loop vectorised and the kernel ran about 4 % faster,
+    but a kernel per form took 87-110 s each to compile (benchmarks/RESULTS.md)."""
+    dt, q1, q2, hg_coefficient, fb, stiff = controls
     decay, scale = step_factors
     for lane in range(n):
         x = _load_modes(keep, K_X, lane)
@@ -452,19 +442,6 @@ def _row(row: int, lane: np.uint64) -> np.uint64:
     return np.uint64(row) * np.uint64(EIGEN_LANES) + lane
 
 
-#: The third pass for IHQ 1, for IHQ 2 and 3, and for IHQ 4 and 5.
-foam_response_viscous = _make_foam_response(False, False)
-foam_response_fb_viscous = _make_foam_response(True, False)
-foam_response_fb_stiffness = _make_foam_response(True, True)
-
-
-def foam_response_for(hg_type: int):  # noqa: ANN201
-    """The third pass (:func:`_make_foam_response`) for LS-DYNA hourglass type ``hg_type``."""
-    if hg_type >= 4:
-        return foam_response_fb_stiffness
-    return foam_response_fb_viscous if hg_type >= 2 else foam_response_viscous
-
-
 @nb.njit(inline="always")
 def foam_store(start, n, cells, state, outputs, work_space, sums):
     """The last pass over cells start..start+n-1: their history (the new rate stress and
@@ -512,18 +489,18 @@ def foam_store(start, n, cells, state, outputs, work_space, sums):
     return internal, hourglass, bulk
 
 
-@nb.njit(inline="always")
-def _foam_cells(foam_response, first, end, mesh, material, state, outputs, controls):
+@nb.njit
+def _foam_cells(first, end, mesh, material, state, outputs, controls):
     """Cells first..end-1 of one slot (``mesh``'s points and velocities and ``outputs``' nodal
     array, the slot's, as flat views (n_points * 3)); their (internal, hourglass, bulk
     viscosity) work [J]. The cells go in blocks of EIGEN_LANES: a first pass forms each
     cell's b = F F^T (:func:`foam_kinematics`, SIMD across the block), the block's
     eigen-decompositions and the law run for the block at once (:func:`foam_law`), the
-    element response SIMD across the block again (``foam_response``, the hourglass form's
-    :func:`_make_foam_response`), and a last pass stores the cells' history and adds their
-    forces in cell order (:func:`foam_store`). Each SIMD pass does what one cell at a time did,
-    in the same order and without fast-math: the same bits. The passes are inlined: called per
-    cell, their arguments (some twenty arrays) were copied at every call."""
+    element response across the block again
+    (:func:`foam_response`), and a last pass stores the cells' history and adds their forces
+    in cell order (:func:`foam_store`). Each SIMD pass does what one cell at a time did, in the
+    same order and without fast-math: the same bits. The passes are inlined: called per cell,
+    their arguments (some twenty arrays) were copied at every call."""
     work_space = (law_block(), np.empty(N_HISTORY * EIGEN_LANES),
                   np.empty(N_KEEP * EIGEN_LANES), eigen_block(), np.empty(N_GATHER * EIGEN_LANES),
                   np.empty(N_RESPONSE * EIGEN_LANES))  # fmt: skip
@@ -542,8 +519,8 @@ def _foam_cells(foam_response, first, end, mesh, material, state, outputs, contr
     return sums
 
 
-@nb.njit(inline="always")
-def _foam_all(foam_response, mesh, material, state, outputs, energy_increments, controls):
+@nb.njit(parallel=True, cache=True)
+def _foam_forces(mesh, material, state, outputs, energy_increments, controls):
     """All cells in the slots of ``nodal_forces`` (rows of ``energy_increments``), in parallel, as
     :func:`batball.elements.hex8.compute_hex8_forces` splits them."""
     # the parallel loop takes plain arrays: tuples of arrays are rebuilt inside its body
@@ -558,8 +535,7 @@ def _foam_all(foam_response, mesh, material, state, outputs, energy_increments, 
         first, end = slot_cells(chunk, n_chunks, n_cells)
         # flat views of the nodal arrays, made once a slot (reshape is a call)
         internal, hourglass, bulk = _foam_cells(
-            foam_response, first, end,
-            (points.reshape(-1), velocities.reshape(-1), cells, reference),
+            first, end, (points.reshape(-1), velocities.reshape(-1), cells, reference),
             (rho0, volume0, (params, rates, strains, stresses, counts, energies)),
             (history, hg_state), (nodal_forces[chunk].reshape(-1), cell_volume, cell_dt),
             controls,
@@ -567,30 +543,6 @@ def _foam_all(foam_response, mesh, material, state, outputs, energy_increments, 
         energy_increments[chunk, ENERGY_INTERNAL] = internal
         energy_increments[chunk, ENERGY_HOURGLASS] = hourglass
         energy_increments[chunk, ENERGY_BULK_VISCOSITY] = bulk
-
-
-# One compiled kernel per hourglass form, so that a run compiles (and caches) only its own.
-# Numba's cache is keyed on this file alone: touch it after editing the modules it inlines.
-
-
-@nb.njit(parallel=True, cache=True)
-def _foam_forces_viscous(mesh, material, state, outputs, energy_increments, controls):
-    """IHQ 1."""
-    _foam_all(foam_response_viscous, mesh, material, state, outputs, energy_increments, controls)
-
-
-@nb.njit(parallel=True, cache=True)
-def _foam_forces_fb_viscous(mesh, material, state, outputs, energy_increments, controls):
-    """IHQ 2 and 3."""
-    _foam_all(foam_response_fb_viscous, mesh, material, state, outputs, energy_increments,
-              controls)  # fmt: skip
-
-
-@nb.njit(parallel=True, cache=True)
-def _foam_forces_fb_stiffness(mesh, material, state, outputs, energy_increments, controls):
-    """IHQ 4 and 5."""
-    _foam_all(foam_response_fb_stiffness, mesh, material, state, outputs, energy_increments,
-              controls)  # fmt: skip
 
 
 def compute_foam_forces(
@@ -636,17 +588,14 @@ def compute_foam_forces(
             f"reference has shape {reference.shape}; expected ({cells.shape[0]}, "
             f"{N_REFERENCE}) from foam_reference_gradients"
         )
-    if hg_type >= 4:
-        kernel = _foam_forces_fb_stiffness
-    else:
-        kernel = _foam_forces_fb_viscous if hg_type >= 2 else _foam_forces_viscous
-    kernel(
+    fb, stiff = hg_type >= 2, hg_type >= 4
+    _foam_forces(
         (points, velocities, kernel_ids(cells), reference),
         (float(density), volume0, table),
         (history, hg_state),
         (nodal_forces, cell_volume, cell_dt),
         energy_increments,
-        (float(dt), float(q1), float(q2), float(hg_coefficient)),
+        (float(dt), float(q1), float(q2), float(hg_coefficient), fb, stiff),
     )
 
 

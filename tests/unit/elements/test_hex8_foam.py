@@ -2,22 +2,15 @@
 
 from __future__ import annotations
 
-import platform
-import re
-
 import numpy as np
 import pytest
 
 from batball.elements.hex8_foam import (
     N_FOAM_HISTORY,
-    N_KEEP,
-    N_RESPONSE,
     compute_foam_forces,
     foam_reference_gradients,
-    foam_response_viscous,
 )
 from batball.elements.hex8_geometry import REFERENCE_CORNERS
-from batball.materials.foam_update import EIGEN_LANES, N_HISTORY
 from batball.mesh.ball import make_ball_mesh
 from batball.specs import load_ball_spec
 
@@ -139,18 +132,3 @@ def test_a_cell_without_volume_keeps_its_history_and_adds_no_forces() -> None:
     assert volume[0] > 0.0 and step[0] > 0.0
     assert not np.array_equal(history[0], before[0])
     assert np.abs(forces[0, :8]).max() > 0.0
-
-
-@pytest.mark.skipif(platform.machine() not in ("x86_64", "AMD64"), reason="reads x86 assembly")
-def test_the_element_response_pass_is_simd_across_cells() -> None:
-    """The foam's third pass runs one loop over a block's lanes that LLVM must vectorise
-    (packed-double arithmetic). With the hourglass form a run-time flag it compiled to scalar
-    code only, and nothing noticed: this checks the model of record's form (IHQ 1)."""
-    lanes = EIGEN_LANES
-    foam_response_viscous(
-        lanes, np.ones(N_KEEP * lanes), np.ones(N_HISTORY * lanes), np.ones(N_RESPONSE * lanes),
-        DENSITY, 0.05, (1e-7, 1.5, 0.06, 0.1), (0.9, 0.1),
-    )  # fmt: skip
-    asm = foam_response_viscous.inspect_asm(foam_response_viscous.signatures[0])
-    packed = re.findall(r"\tv?(?:add|sub|mul|div|f[n]?m(?:add|sub)\d*)pd\s", asm)
-    assert len(packed) > 400
