@@ -18,6 +18,7 @@ import time
 from collections.abc import Callable
 
 import numba
+from yardstick import cpu_description
 
 from batball.elements.hex8 import compute_hex8_forces
 from batball.elements.hex8_foam import foam_element_forces
@@ -74,6 +75,25 @@ def seconds_per_call(call: Callable[[], None], calls: int, repeats: int) -> list
             call()
         times.append((time.perf_counter() - start) / calls)
     return times
+
+
+def one_thread_arguments(
+    parser: argparse.ArgumentParser, cycles: int, calls: int, rounds: int
+) -> argparse.Namespace:
+    """Parse ``--cycles``, ``--calls`` and ``--rounds`` (with these defaults) and the parser's own
+    options, refuse a count below 1, print the CPU line and set Numba to one thread: the common
+    start of the one-thread part timings (``hex8_ceiling.py``, ``foam_stages.py``)."""
+    parser.add_argument("--cycles", type=int, default=cycles)
+    parser.add_argument("--calls", type=int, default=calls)
+    parser.add_argument("--rounds", type=int, default=rounds)
+    args = parser.parse_args()
+    for name in ("cycles", "calls", "rounds"):
+        if getattr(args, name) < 1:
+            parser.error(f"--{name}: {getattr(args, name)} is not allowed; expected 1 or more")
+    cpu = cpu_description()
+    print(f"{cpu['model']}, {cpu['vector_bits']}-bit vectors, {cpu['logical_cpus']} logical CPUs")
+    numba.set_num_threads(1)
+    return args
 
 
 def main() -> None:

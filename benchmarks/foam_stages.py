@@ -19,8 +19,8 @@ import statistics
 
 import numba as nb
 import numpy as np
-from bench_hex8_kernel import kernel_call, loaded_solver, seconds_per_call
-from yardstick import cpu_description, gemm_gflops
+from bench_hex8_kernel import kernel_call, loaded_solver, one_thread_arguments, seconds_per_call
+from yardstick import gemm_gflops
 
 from batball.elements import hex8_foam as hf
 from batball.elements.hex8 import kernel_ids
@@ -61,16 +61,7 @@ def _first_passes(passes, mesh, material, state, outputs, controls):  # noqa: AN
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ball", default="type1-fit", help="a foam ball spec")
-    parser.add_argument("--cycles", type=int, default=50)
-    parser.add_argument("--calls", type=int, default=10)
-    parser.add_argument("--rounds", type=int, default=5)
-    args = parser.parse_args()
-    for name in ("cycles", "calls", "rounds"):
-        if getattr(args, name) < 1:
-            parser.error(f"--{name}: {getattr(args, name)} is not allowed; expected 1 or more")
-    cpu = cpu_description()
-    print(f"{cpu['model']}, {cpu['vector_bits']}-bit vectors, {cpu['logical_cpus']} logical CPUs")
-    nb.set_num_threads(1)
+    args = one_thread_arguments(parser, 50, 10, 5)
     solver = loaded_solver(1, args.cycles, ball=args.ball)
     if solver.model.foam is None:
         parser.error(f"--ball: {args.ball!r} is not a foam ball; expected one (type1-fit)")

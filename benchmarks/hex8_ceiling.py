@@ -37,8 +37,8 @@ from collections.abc import Callable
 
 import numba as nb
 import numpy as np
-from bench_hex8_kernel import kernel_call, loaded_solver, seconds_per_call
-from yardstick import cpu_description, gemm_gflops
+from bench_hex8_kernel import kernel_call, loaded_solver, one_thread_arguments, seconds_per_call
+from yardstick import gemm_gflops
 
 from batball.elements import hex8_block as hb
 from batball.elements.hex8 import kernel_ids
@@ -112,16 +112,7 @@ def instruction_mix(loop: list[list[str]], register: str) -> dict[str, int]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cycles", type=int, default=40)
-    parser.add_argument("--calls", type=int, default=20)
-    parser.add_argument("--rounds", type=int, default=5)
-    args = parser.parse_args()
-    for name in ("cycles", "calls", "rounds"):
-        if getattr(args, name) < 1:
-            parser.error(f"--{name}: {getattr(args, name)} is not allowed; expected 1 or more")
-    cpu = cpu_description()
-    print(f"{cpu['model']}, {cpu['vector_bits']}-bit vectors, {cpu['logical_cpus']} logical CPUs")
-    nb.set_num_threads(1)
+    args = one_thread_arguments(parser, 40, 20, 5)
     solver = loaded_solver(1, args.cycles)  # the parts called alone (their sums pile up)
     cycling = loaded_solver(1, args.cycles)  # full cycles, for the rest of the cycle
     state, work, model = solver.state, solver.work, solver.model
