@@ -408,7 +408,7 @@ def _unsigned_at(row: int, slot: np.uint64) -> np.uint64:
 
 
 @nb.njit(inline="always")
-def _node_offset(cells: np.ndarray, cell: np.uint64, a: int) -> np.uint64:
+def node_offset(cells: np.ndarray, cell: np.uint64, a: int) -> np.uint64:
     """Unsigned offset of node ``a`` of ``cell`` in a flat (n_points * 3) view of a nodal array."""
     return np.uint64(3) * np.uint64(cells[cell, a])
 
@@ -471,10 +471,10 @@ gather_cell_rows = cast(
 def _lane_offsets(cells: np.ndarray, cell: np.uint64, a: int) -> tuple:
     """Flat offsets of node ``a`` of the GATHER_LANES cells from ``cell`` (unsigned)."""
     u = np.uint64
-    return (_node_offset(cells, cell, a), _node_offset(cells, cell + u(1), a),
-            _node_offset(cells, cell + u(2), a), _node_offset(cells, cell + u(3), a),
-            _node_offset(cells, cell + u(4), a), _node_offset(cells, cell + u(5), a),
-            _node_offset(cells, cell + u(6), a), _node_offset(cells, cell + u(7), a))  # fmt: skip
+    return (node_offset(cells, cell, a), node_offset(cells, cell + u(1), a),
+            node_offset(cells, cell + u(2), a), node_offset(cells, cell + u(3), a),
+            node_offset(cells, cell + u(4), a), node_offset(cells, cell + u(5), a),
+            node_offset(cells, cell + u(6), a), node_offset(cells, cell + u(7), a))  # fmt: skip
 
 
 @nb.njit(fastmath=FASTMATH)
@@ -509,7 +509,7 @@ def gather_nodes(
     for e in range(whole, n):
         cell = np.uint64(start + e)
         slot = np.uint64(e)
-        first = _node_offset(cells, cell, 0)
+        first = node_offset(cells, cell, 0)
         ox = xs[first] if relative else 0.0
         oy = xs[first + np.uint64(1)] if relative else 0.0
         oz = xs[first + np.uint64(2)] if relative else 0.0
@@ -517,7 +517,7 @@ def gather_nodes(
         ov = vs[first + np.uint64(1)] if relative else 0.0
         ow = vs[first + np.uint64(2)] if relative else 0.0
         for a in range(8):
-            node = _node_offset(cells, cell, a)
+            node = node_offset(cells, cell, a)
             x0, x1, x2 = xs[node], xs[node + np.uint64(1)], xs[node + np.uint64(2)]
             v0, v1, v2 = vs[node], vs[node + np.uint64(1)], vs[node + np.uint64(2)]
             w[_unsigned_at(R_X + 3 * a, slot)] = x0 - ox
@@ -620,7 +620,7 @@ def scatter_forces(
         cell = np.uint64(start + e)
         slot = np.uint64(e)
         for a in range(8):
-            node = _node_offset(cells, cell, a)
+            node = node_offset(cells, cell, a)
             x, y = w[_unsigned_at(R_X + 3 * a, slot)], w[_unsigned_at(R_X + 3 * a + 1, slot)]
             add_pair(forces, node, x, y)
             forces[node + np.uint64(2)] += w[_unsigned_at(R_X + 3 * a + 2, slot)]

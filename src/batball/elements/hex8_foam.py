@@ -41,7 +41,7 @@ import numba as nb
 import numpy as np
 
 from batball.elements.hex8 import kernel_ids, slot_cells
-from batball.elements.hex8_block import add_pair
+from batball.elements.hex8_block import add_pair, node_offset
 from batball.elements.hex8_geometry import (
     modal_largest_face_area,
     modal_sums,
@@ -149,18 +149,6 @@ def _axpy6(a: tuple, b: tuple, s: float) -> tuple:
     """a + s b for Voigt 6-tuples."""
     return (a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2],
             a[3] + s * b[3], a[4] + s * b[4], a[5] + s * b[5])  # fmt: skip
-
-
-@nb.njit(inline="always")
-def _load6(row: np.ndarray, first: int) -> tuple:
-    return (row[first], row[first + 1], row[first + 2],
-            row[first + 3], row[first + 4], row[first + 5])  # fmt: skip
-
-
-@nb.njit(inline="always")
-def _store6(row: np.ndarray, first: int, s: tuple) -> None:
-    for k in range(6):
-        row[first + k] = s[k]
 
 
 @nb.njit(inline="always")
@@ -477,9 +465,9 @@ def foam_store(start, n, cells, state, outputs, work_space, sums):
     for lane in range(lanes):
         e = first + lane
         for a in range(8):
-            node = np.uint64(3) * np.uint64(cells[e, a])
-            x = response[_row(R_FORCES + a, lane)]
-            add_pair(nodal, node, x, response[_row(R_FORCES + 8 + a, lane)])
+            node = node_offset(cells, e, a)
+            x, y = response[_row(R_FORCES + a, lane)], response[_row(R_FORCES + 8 + a, lane)]
+            add_pair(nodal, node, x, y)
             nodal[node + np.uint64(2)] += response[_row(R_FORCES + 16 + a, lane)]
     internal, hourglass, bulk = sums
     for lane in range(lanes):
