@@ -41,10 +41,18 @@ def main() -> None:
     parser.add_argument("--axial-size-in", type=float, default=0.1)
     parser.add_argument("--cycles", type=int, default=300)
     parser.add_argument("--mass-scaling", choices=("barrel", "off"), default="barrel")
-    parser.add_argument("--shell", choices=SHELLS, default="mitc4",
-                        help="the bat's shell element (mitc4: the model of record's)")
-    parser.add_argument("--simulated-ms", type=float, default=1.25,
-                        help="impact run length to project to (1.25 ms: contact + 0.2 ms)")
+    parser.add_argument(
+        "--shell",
+        choices=SHELLS,
+        default="mitc4",
+        help="the bat's shell element (mitc4: the model of record's)",
+    )
+    parser.add_argument(
+        "--simulated-ms",
+        type=float,
+        default=1.25,
+        help="impact run length to project to (1.25 ms: contact + 0.2 ms)",
+    )
     args = parser.parse_args()
     setup = BbsSetup(ball_divisions=args.ball_divisions, circumferential=args.circumferential,
                      axial_size=args.axial_size_in * IN, gap=0.0,
@@ -65,7 +73,7 @@ def main() -> None:
     n_shells, n_hexes = model.bat_mesh.n_cells, model.ball_cells.shape[0]
     import numba
     from flop_counts import bt_default_bat_mean_flops, hex8_flops, mitc4_flops
-    from yardstick import cpu_description, gemm_gflops
+    from yardstick import cpu_description, gemm_gflops, yardstick_label
 
     sgemm = gemm_gflops(numba.get_num_threads())["sgemm"]
     cycles = sum(relaxation_cycles(setup, solver.dt)) + args.simulated_ms * 1e-3 / solver.dt
@@ -86,7 +94,7 @@ def main() -> None:
         "phase_seconds_per_cycle": phases,
         "element_cycles_per_second": (n_shells + n_hexes) / seconds,
         "cpu": cpu_description(), "threads": numba.get_num_threads(),
-        "sgemm_gflops": sgemm,
+        "sgemm_gflops": sgemm, "yardstick": yardstick_label(),
         "element_cycles_per_second_per_sgemm_gflops": (n_shells + n_hexes) / seconds / sgemm,
         "flops_per_element_cycle": {"bat_shell": shell_flops, "ball_hex": hex_flops},
         "gflops": gflops, "fraction_of_sgemm": {k: v / sgemm for k, v in gflops.items()},

@@ -56,10 +56,11 @@ def main() -> None:
     args = parser.parse_args()
     import numba
     from flop_counts import hex8_flops
-    from yardstick import cpu_description, gemm_gflops
+    from yardstick import cpu_description, gemm_gflops, yardstick_label
 
     cpu = cpu_description()
-    print(f"{cpu['model']}, {cpu['vector_bits']}-bit vectors, {cpu['logical_cpus']} logical CPUs")
+    print(f"{cpu['model']}, {cpu['vector_bits']}-bit vectors, {cpu['logical_cpus']} logical "
+          f"CPUs; GEMM by {yardstick_label()}")  # fmt: skip
     precisions = ("single", "double") if args.precision == "both" else (args.precision,)
     runs = [(t, p) for t in args.threads or sorted({1, numba.config.NUMBA_NUM_THREADS})
             for p in precisions]  # fmt: skip
@@ -78,6 +79,7 @@ def main() -> None:
               f"{rate / gemm:.3g} element-cycles/s per GFLOP/s; {flops} flops an element-cycle "
               f"-> {achieved:.1f} GFLOP/s, {achieved / gemm:.1%} of {name}")  # fmt: skip
         print("  phases (s, last run):", {k: round(v, 2) for k, v in r["phases"].items()})
+
 
 if __name__ == "__main__":
     main()
