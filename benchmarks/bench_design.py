@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 from batball.design import load_design_study, run_design_study
-from batball.numerics import WIDE_VECTOR_FEATURES
+from batball.numerics import wide_vectors
 from batball.report.design_page import write_design_page
 
 HERE = Path(__file__).resolve().parent
@@ -54,7 +54,7 @@ def main() -> None:
     screened = {d.id: d for d in result.designs if d.stage != "confirm"}
     print(json.dumps({
         "study": study.name, "cpu": cpu_model(), "cores": os.cpu_count(),
-        "vector_width_bits": 512 if WIDE_VECTOR_FEATURES else 256, "designs": summary["designs"],
+        "vector_width_bits": 512 if wide_vectors() else 256, "designs": summary["designs"],
         "feasible": summary["feasible"], "wall_seconds": wall,
         "stage_seconds": summary["stage_seconds"],
         "best": [{"design": b["design"], "parameters": b["parameters"],

@@ -1,7 +1,7 @@
 """Settings shared by every Numba kernel.
 
 Importing this module (every kernel module does, before anything is compiled) also picks the SIMD
-width LLVM generates: see :func:`prefer_wide_vectors`.
+width LLVM generates: see :func:`set_vector_width`.
 """
 
 from __future__ import annotations
@@ -22,36 +22,39 @@ from batball.errors import SpecError
 #: "Same input, same bits, compiled or cached").
 FASTMATH = {"nsz", "arcp", "contract", "afn"}
 
-#: Environment variable choosing the SIMD width of the kernels: "512" (the default where the CPU
-#: has AVX-512) or "256" (LLVM's own choice for these CPUs).
+#: Environment variable choosing the SIMD width of the kernels on a CPU with AVX-512: "512" (the
+#: default) or "256".
 VECTOR_WIDTH_VARIABLE = "BATBALL_VECTOR_WIDTH"
 
 
-def prefer_wide_vectors() -> str | None:
-    """Let LLVM vectorise with 512-bit registers on a CPU with AVX-512; returns the feature
-    string given to Numba, or None where nothing was changed.
+def set_vector_width() -> str | None:
+    """Set the SIMD width LLVM vectorises with on a CPU with AVX-512 (512-bit, or 256-bit where
+    ``BATBALL_VECTOR_WIDTH=256``); returns the feature string given to Numba, or None where
+    nothing was changed (no AVX-512, or the user set ``NUMBA_CPU_FEATURES``).
 
-    LLVM tunes Skylake-server and later Intel CPUs with ``prefer-256-bit``, so loops are
-    vectorised 4 doubles wide even where 8-wide AVX-512 exists (to avoid the frequency drop of
-    heavy 512-bit code on early Skylake parts). The hex kernel's element loop is straight-line
-    arithmetic on 16-element blocks (:mod:`batball.elements.hex8_block`); measured on this
-    project's 2-core machine (Intel, model 167) the loop itself runs 20-25 % faster 8 wide
-    (benchmarks/RESULTS.md). The setting only takes effect if Numba has not compiled
-    anything yet in this process (its code generator is created once); it is skipped where the
-    user set ``NUMBA_CPU_FEATURES`` or ``BATBALL_VECTOR_WIDTH=256``. Numba's on-disk cache is
-    keyed on the feature string, so code compiled either way is never mixed up.
+    LLVM's own choice differs between CPUs: it tunes Skylake-server and later Intel CPUs with
+    ``prefer-256-bit``, so loops are vectorised 4 doubles wide even where 8-wide AVX-512 exists
+    (to avoid the frequency drop of heavy 512-bit code on early Skylake parts), and AMD's Zen 5
+    without it. The hex kernel's element loop is straight-line arithmetic on blocks of cells
+    (:mod:`batball.elements.hex8_block`); measured on this project's 2-core machines it runs
+    20-25 % faster 8 wide on an Intel model 167, and the full-size CCOR solver takes 1.5-1.7 s
+    on one thread of a Zen 5 against 1.8-1.85 s with 256-bit vectors (benchmarks/RESULTS.md).
+    So the width is set either way, not left to LLVM. The setting only takes effect if Numba
+    has not compiled anything yet in this process (its code generator is created once).
+    Numba's on-disk cache is keyed on the feature string, so code compiled either way is never
+    mixed up.
     """
     choice = os.environ.get(VECTOR_WIDTH_VARIABLE, "512")
     if choice not in ("256", "512"):
         raise SpecError(f"environment variable {VECTOR_WIDTH_VARIABLE}", choice, "256 or 512")
-    if choice == "256" or os.environ.get("NUMBA_CPU_FEATURES"):
+    if os.environ.get("NUMBA_CPU_FEATURES"):
         return None
     from llvmlite import binding
 
     host = binding.get_host_cpu_features()
     if not host.get("avx512f", False):
         return None
-    features = host.flatten() + ",-prefer-256-bit"
+    features = host.flatten() + (",-prefer-256-bit" if choice == "512" else ",+prefer-256-bit")
     nb.config.CPU_FEATURES = features  # type: ignore[attr-defined]
     # so that Numba's reload of its configuration from the environment keeps it, and so that
     # worker processes (calibration pools, Dask) compile the same code
@@ -59,12 +62,12 @@ def prefer_wide_vectors() -> str | None:
     return features
 
 
-WIDE_VECTOR_FEATURES = prefer_wide_vectors()
+VECTOR_FEATURES = set_vector_width()
 
 
 def wide_vectors() -> bool:
     """Whether the kernels are compiled for 512-bit vectors: Numba's CPU features (set by
-    :func:`prefer_wide_vectors`, or by the user in ``NUMBA_CPU_FEATURES``) enable AVX-512F and
+    :func:`set_vector_width`, or by the user in ``NUMBA_CPU_FEATURES``) enable AVX-512F and
     turn off LLVM's preference for 256-bit vectors.
 
     A function of the feature string alone, which is also part of the key of Numba's on-disk

@@ -10,7 +10,7 @@ from batball.numerics import wide_vectors
 @pytest.mark.parametrize(
     ("features", "wide"),
     [
-        ("+avx2,+avx512f,-prefer-256-bit", True),  # as prefer_wide_vectors sets it
+        ("+avx2,+avx512f,-prefer-256-bit", True),  # as set_vector_width sets it
         ("+avx2,+avx512f", False),  # AVX-512 with LLVM's own tuning
         ("+avx2,+avx512f,+prefer-256-bit", False),
         ("+avx2,+fma,-prefer-256-bit", False),  # no AVX-512
