@@ -23,9 +23,12 @@ with its element loop at that rate, and with both:
   instruction: the rate at which this machine issues vector FMAs on dense work.
 
 The bound is optimistic: every vector floating-point instruction at the FMA rate (divisions and
-square roots are slower) and every move free. Usage:
+square roots are slower) and every move free. Each part is timed over ``--calls`` calls after
+the round's SGEMM: on an AMD Zen 5 the first few dozen calls after it ran up to half as long
+again (20 calls gave the kernel 522 us a cycle, 100 calls 357 us, as in whole runs), so the
+default is 100. Usage:
 
-    python benchmarks/hex8_ceiling.py [--cycles 40] [--calls 20] [--rounds 5]
+    python benchmarks/hex8_ceiling.py [--cycles 40] [--calls 100] [--rounds 5]
 """
 
 from __future__ import annotations
@@ -112,7 +115,7 @@ def instruction_mix(loop: list[list[str]], register: str) -> dict[str, int]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    args = one_thread_arguments(parser, 40, 20, 5)
+    args = one_thread_arguments(parser, 40, 100, 5)
     solver = loaded_solver(1, args.cycles)  # the parts called alone (their sums pile up)
     cycling = loaded_solver(1, args.cycles)  # full cycles, for the rest of the cycle
     state, work, model = solver.state, solver.work, solver.model
