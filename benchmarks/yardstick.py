@@ -71,10 +71,11 @@ def blas_kernels() -> list[str | None]:
 def yardstick_label() -> str:
     """Words for the printouts: which BLAS kernels the yardstick is the best of."""
     kernels = blas_kernels()
+    forced = os.environ.get("OPENBLAS_CORETYPE")
+    given = f"OpenBLAS's {forced} kernel" if forced else "the BLAS's own choice of kernel"
     if len(kernels) == 1:
-        return "the BLAS's own kernel"
-    given = os.environ.get("OPENBLAS_CORETYPE", "its own choice")
-    return f"the best of OpenBLAS's {given} and {kernels[1]} (AVX-512) kernels"
+        return given
+    return f"the best of {given} and OpenBLAS's {kernels[1]} (AVX-512) kernel"
 
 
 def gemm_gflops(threads: int, *, size: int = 2048, repeats: int = 5) -> dict[str, float]:

@@ -62,6 +62,7 @@ def set_vector_width() -> str | None:
     return features
 
 
+#: The feature string :func:`set_vector_width` gave Numba on import (None where it changed nothing).
 VECTOR_FEATURES = set_vector_width()
 
 
