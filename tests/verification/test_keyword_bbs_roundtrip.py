@@ -5,16 +5,22 @@ Coarsest meshes that still run: a 3-division ball (189 hexes), 8 shells around, 
 pivot band one ring (0.5 in): about 2 s a run after compilation.
 
 Tolerances. Long format (20-column fields, shortest repr) keeps every double; the model read
-back differs from the direct one by unit-conversion round-off (1e-16 relative), and the run by
-5e-14 (measured): 1e-9. Standard format keeps 5 to 6 significant digits of a 10-column real
-(the ball's moduli and density, the laminae), rounding each by up to 5e-6. The coarse run is
-not smooth at that level: a node of the 189-hex ball touches the bat one step sooner or later.
-Measured on the direct run, 14 changes of the ball's size by -5e-6 .. +5e-6 moved e_A by up to
-7.1e-6, BBCOR by up to 1.1e-5 and the peak force by up to 1.25e-4 (jumps, where one input's
-rounding can move it by 1e-7 or 1e-4), while changing each modulus, density and lamina constant
-alone by 5e-6 moved them smoothly by at most 1.8e-6: 2e-5 on e_A and BBCOR (absolute), 5e-4
-on the peak force (two such jumps with margin, as some 20 inputs are rounded), one step on the
-contact time.
+back differs from the direct one by unit-conversion round-off: 1e-15 relative in the points and
+material constants, 2e-14 in the ball's reference volumes (checked to 1e-12 below). The run is
+not smooth at that level: the reference volumes set the initial pressure K ln(V0/V), which
+leaves the flight's tr D at round-off of either sign, and the stable step's bulk-viscosity term
+applies only while tr D < 0, so a step can be 4 % longer or shorter. Measured on the direct
+run, a 2e-14 change of the reference volumes moved e_A by 1.5e-6 with the earlier node
+numbering and 4.8e-6 with the present one; the deck's run differs by 3.9e-6. So the run is held
+to the standard format's bounds (below) in both formats. Standard format keeps 5 to 6
+significant digits of a 10-column real (the ball's moduli and density, the laminae), rounding
+each by up to 5e-6. The coarse run is not smooth at that level: a node of the 189-hex ball
+touches the bat one step sooner or later. Measured on the direct run, 14 changes of the ball's
+size by -5e-6 .. +5e-6 moved e_A by up to 7.1e-6, BBCOR by up to 1.1e-5 and the peak force by
+up to 1.25e-4 (jumps, where one input's rounding can move it by 1e-7 or 1e-4), while changing
+each modulus, density and lamina constant alone by 5e-6 moved them smoothly by at most 1.8e-6:
+2e-5 on e_A and BBCOR (absolute), 5e-4 on the peak force (two such jumps with margin, as some
+20 inputs are rounded), one step on the contact time.
 
 The single-wall bat (the default bat without its insert) is the run that is compared: with the
 insert, the pre-stressed fit is ill-conditioned at round-off level in batball's own direct run
@@ -61,23 +67,36 @@ def direct() -> BbsMeasures:
     return measure_bbs(model, run_bbs_model(model, SETUP), SETUP)
 
 
-@pytest.mark.parametrize(("long", "tol"), [(True, 1e-9), (False, 2e-5)])
+@pytest.mark.parametrize("long", [True, False])
 def test_single_wall_bbs_deck_runs_as_the_direct_bbs_test(
-    tmp_path: Path, direct: BbsMeasures, long: bool, tol: float
+    tmp_path: Path, direct: BbsMeasures, long: bool
 ) -> None:
     path = tmp_path / "bbs.k"
     path.write_text(bbs_deck(*single_wall(), SETUP, long=long))
     s = run_bbs_deck(read_bat_deck(path), precision="double")
+    tol = 2e-5
     assert s["inbound_mph"] * MPH == pytest.approx(direct.inbound_speed, rel=1e-12)
     assert s["collision_efficiency"] == pytest.approx(direct.collision_efficiency, abs=tol)
     assert s["rebound_mph"] * MPH == pytest.approx(direct.rebound_speed,
                                                    abs=tol * direct.inbound_speed)  # fmt: skip
     assert s["bbcor"] == pytest.approx(direct.bbcor, abs=tol)
-    peak_tol = 1e-9 if long else 5e-4
-    assert s["peak_force_lbf"] * LBF == pytest.approx(direct.peak_force, rel=peak_tol)
+    assert s["peak_force_lbf"] * LBF == pytest.approx(direct.peak_force, rel=5e-4)
     step = s["end_time_ms"] * 1e-3 / s["n_steps"]
     assert abs(s["contact_time_ms"] * 1e-3 - direct.contact_time) <= 1.5 * step
     assert s["pivot_from_knob_in"] == pytest.approx(6.0, abs=1e-12)
+
+
+def test_single_wall_bbs_deck_builds_the_direct_ball(tmp_path: Path) -> None:
+    path = tmp_path / "bbs.k"
+    path.write_text(bbs_deck(*single_wall(), SETUP, long=True))
+    got = read_bbs_deck(read_bat_deck(path)).model.coupled
+    spec, ball = single_wall()
+    model = build_bbs_model(spec, ball, SETUP).coupled
+    np.testing.assert_allclose(got.points, model.points, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(got.ball.cells, model.ball.cells)
+    np.testing.assert_allclose(got.ball.volume0, model.ball.volume0, rtol=1e-12)
+    np.testing.assert_allclose(got.ball.mass, model.ball.mass, rtol=1e-12)
+    assert got.ball.density == pytest.approx(model.ball.density, rel=1e-12)
 
 
 def test_double_wall_bbs_deck_builds_the_direct_model(tmp_path: Path) -> None:

@@ -103,31 +103,68 @@ def _inverse(order: np.ndarray) -> np.ndarray:
     return rank
 
 
+def _x_lines(keys: np.ndarray, divisions: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each node's line of nodes running in x, and its place along it: ``(line, place)``, line
+    keys (n, 3) and integer places (n,).
+
+    The core's x-lines run on through the two x shell blocks (radially there), from the sphere
+    at -x to the sphere at +x: 3 divisions + 1 nodes. The other shell blocks' lines of nodes in
+    x (tangential) end on the x blocks, whose lines keep those end nodes, so there a line holds
+    the divisions - 1 nodes between; in the layer that meets the core they are the core's own."""
+    n = divisions
+    layer, qx, qy, qz = keys.T
+    through = (layer == 0) | (np.abs(qx) == n)
+    place = np.where(layer == 0, n + (qx + n) // 2, (qx + n) // 2)
+    place = np.where(through & (layer > 0), np.where(qx < 0, n - layer, 2 * n + layer), place)
+    return np.stack([qy, qz, np.where(through, -1, layer)], axis=1), place
+
+
+def _along_x(block: np.ndarray, divisions: int) -> np.ndarray:
+    """A block of keys (ni+1, nj+1, nk+1, 4) with its axes turned so that axis 0 runs along
+    its x-lines (:func:`_x_lines`), the place rising, and the axes still right-handed."""
+    _, place = _x_lines(block.reshape(-1, 4), divisions)
+    place = place.reshape(block.shape[:3])
+    rising = [np.mean(np.diff(place, axis=a) == 1) for a in range(3)]
+    falling = [np.mean(np.diff(place, axis=a) == -1) for a in range(3)]
+    axis = int(np.argmax(np.maximum(rising, falling)))
+    sign = 1 if rising[axis] >= falling[axis] else -1
+    order = [axis] + [a for a in range(3) if a != axis]
+    even = order in ([0, 1, 2], [1, 2, 0], [2, 0, 1])
+    turned = np.transpose(block, (*order, 3))
+    if sign < 0:
+        turned = turned[::-1]
+    if even != (sign > 0):  # one reflection so far: a second keeps the volumes positive
+        turned = turned[:, :, ::-1]
+    return turned
+
+
+def _in_lines(cells: np.ndarray, divisions: int) -> np.ndarray:
+    """The cells of the seven blocks (as :func:`_merge_blocks` gives them, axis 2 fastest)
+    reordered with axis 0 fastest: each run of ``divisions`` cells is one line in x."""
+    n = divisions
+    blocks = cells.reshape(7, n, n, n, 8)
+    return np.ascontiguousarray(blocks.transpose(0, 3, 2, 1, 4)).reshape(-1, 8)
+
+
 def _number_nodes(
     keys: np.ndarray, cells: np.ndarray, divisions: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The node order (old ids in new order) and the cells renumbered for the explicit
-    solver's caches: the inner
-    nodes that the first half of the cells uses, then the surface nodes, then the other inner
-    nodes, each group in the order the cells first use its nodes.
+    """The node order (old ids in new order) and the cells renumbered: line by line
+    (:func:`_x_lines`), the lines in the order the cells first use them, each line's nodes in
+    order of place.
 
-    The solver splits the cells (here in slabs, :func:`_slab_order`) into contiguous slots, one
-    per thread, and each thread updates a contiguous run of nodes. Numbered so, each half's
-    nodes are one contiguous run of ids, the two runs overlap only in the nodes the halves share
-    (the middle slab and the surface nodes), near the middle where the update's two threads
-    meet, and the surface nodes (the contact candidates, which one thread searches) are one
-    run. Measured on two threads of a 2-core Xeon: about a quarter off the cycle's work after
-    the element forces and 7-10 % off the whole cycle, against cells in blocks and the surface
-    nodes last (benchmarks/RESULTS.md)."""
-    _, first = np.unique(cells.ravel(), return_index=True)
-    by_use = np.argsort(first, kind="stable")
-    outer = keys[by_use, 0] == divisions
-    early = np.zeros(len(keys), dtype=bool)
-    early[cells[: len(cells) // 2].ravel()] = True
-    in_first_half = early[by_use]
-    order = np.concatenate(
-        [by_use[~outer & in_first_half], by_use[outer], by_use[~outer & ~in_first_half]]
-    )
+    The cells run along the same lines, corner 1 one place on from corner 0, so along a line
+    each corner's node id rises by one from a cell to the next: the element kernel then loads
+    the nodes of four such cells as one run of memory (:mod:`batball.elements.hex8_block`). With
+    the cells in slabs, each half's nodes are nearly one run, overlapping only near the middle
+    where the update's two threads meet."""
+    line, place = _x_lines(keys, divisions)
+    _, line_id = np.unique(line, axis=0, return_inverse=True)
+    line_id = line_id.ravel()
+    first_use = np.full(line_id.max() + 1, len(cells))
+    users = np.broadcast_to(np.arange(len(cells))[:, None], cells.shape)
+    np.minimum.at(first_use, line_id[cells], users)
+    order = np.lexsort((place, line_id, first_use[line_id]))
     return order, _inverse(order)[cells]
 
 
@@ -195,11 +232,16 @@ def make_ball_mesh(radius: float, *, divisions: int = 12) -> Mesh:
         raise ValueError(f"radius must be > 0 m, got {radius}")
     blocks = [_core_keys(divisions)]
     blocks += [_shell_keys(divisions, axis, sign) for axis in range(3) for sign in (1, -1)]
-    keys, cells, block_cell_ids = _merge_blocks(blocks)
+    keys, cells, _ = _merge_blocks([_along_x(block, divisions) for block in blocks])
+    cells = _in_lines(cells, divisions)
+    block_cells = np.arange(len(cells)).reshape(7, -1)
     points = _positions(keys, divisions, radius)
-    order = _slab_order(points[cells].mean(axis=1), 2 * divisions)
+    # whole lines in slabs of their centroids
+    line_centroids = points[cells].mean(axis=1).reshape(-1, divisions, 3).mean(axis=1)
+    lines = _slab_order(line_centroids, 2 * divisions)
+    order = (lines[:, None] * divisions + np.arange(divisions)).ravel()
     rank = _inverse(order)
-    cells, block_cell_ids = cells[order], [np.sort(rank[ids]) for ids in block_cell_ids]
+    cells, block_cell_ids = cells[order], [np.sort(rank[ids]) for ids in block_cells]
     node_order, cells = _number_nodes(keys, cells, divisions)
     keys, points = keys[node_order], points[node_order]
     point_sets = {"surface": np.nonzero(keys[:, 0] == divisions)[0]}

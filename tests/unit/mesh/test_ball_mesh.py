@@ -91,15 +91,26 @@ def test_cell_sets_split_core_and_shell(ball: tuple[int, Mesh]) -> None:
 
 def test_node_numbering_keeps_the_solver_halves_apart(ball: tuple[int, Mesh]) -> None:
     # The explicit solver splits the cells into two contiguous halves on two threads. The cells
-    # go in slabs and the nodes by half, so the halves' node ranges should overlap in no more
-    # than the surface nodes (one run between the halves) and the middle slab's nodes, fewer
-    # than two node layers of a square of 2 n + 1 nodes a side; the surface stays one run.
+    # go in slabs of whole lines and the nodes line by line in the order the cells first use
+    # them, so the halves' node ranges should overlap only near the middle: fewer than two
+    # node layers of a square of 2 n + 1 nodes a side.
     n, mesh = ball
     (lo0, hi0), (lo1, hi1) = slot_node_ranges(mesh.cells, 2)
-    surface = mesh.point_sets["surface"]
     assert lo0 == 0 and hi1 == mesh.n_points
-    assert hi0 - lo1 < surface.size + 2 * (2 * n + 1) ** 2
-    assert surface.max() - surface.min() + 1 == surface.size
+    assert hi0 - lo1 < 2 * (2 * n + 1) ** 2
+
+
+def test_cells_run_along_lines_of_consecutive_nodes(ball: tuple[int, Mesh]) -> None:
+    # Each run of n cells is one line, each cell's face (1, 2, 5, 6) the next one's (0, 3, 4, 7).
+    # Along the 3 n^2 lines through the core and the x blocks every corner's node id rises by
+    # one from a cell to the next. The other four blocks' 4 n^2 lines end on the x blocks,
+    # whose lines keep the end nodes, so there only the n - 3 steps clear of both ends rise in
+    # every corner (the element kernel moves such runs of nodes as one span).
+    n, mesh = ball
+    lines = mesh.cells.reshape(-1, n, 8)
+    assert np.array_equal(lines[:, 1:, [0, 3, 4, 7]], lines[:, :-1, [1, 2, 5, 6]])
+    rising = np.all(np.diff(lines, axis=1) == 1, axis=2)
+    assert rising.sum() == 3 * n**2 * (n - 1) + 4 * n**2 * max(n - 3, 0)
 
 
 def test_every_cell_has_positive_volume_and_good_shape(ball: tuple[int, Mesh]) -> None:
