@@ -19,6 +19,7 @@ import numba as nb
 import numpy as np
 from llvmlite import ir
 from numba import types
+from numba.core import cgutils
 from numba.extending import intrinsic
 
 from batball.elements.hex8_geometry import Vector, modal_sums, modes_of_components
@@ -29,7 +30,7 @@ from batball.elements.hex8_kinematics import (
     element_kinematics,
 )
 from batball.elements.hex8_response import element_response
-from batball.elements.vector_math import like, transposed_lanes
+from batball.elements.vector_math import like, shuffle_mask, transposed_lanes
 from batball.errors import SpecError
 from batball.materials.viscoelastic import viscoelastic_step_factors
 from batball.numerics import FASTMATH, wide_vectors
@@ -413,68 +414,169 @@ def node_offset(cells: np.ndarray, cell: np.uint64, a: int) -> np.uint64:
     return np.uint64(3) * np.uint64(cells[cell, a])
 
 
-#: Cells the node gather moves at once (BLOCK is a multiple of it); _lane_offsets spells out
-#: the eight.
+#: Cells the node gather moves at once (BLOCK is a multiple of it), RUN at a time.
 GATHER_LANES = 8
+
+#: Cells in a run: where a corner's nodes of RUN consecutive cells are consecutive nodes, the
+#: gather and scatter move them as one span of memory (RUN nodes, 3 RUN doubles).
+RUN = 4
+
+#: The corners of a hex in pairs along its first axis (corner 0 to 1): in a run, the second
+#: corner of each cell is the first corner of the next.
+AXIS_PAIRS = ((0, 1), (3, 2), (4, 5), (7, 6))
+
+
+def _id_pointers(
+    context,
+    builder: ir.IRBuilder,
+    cells_type: types.Array,
+    cells: ir.Value,
+    cell: ir.Value,
+    count: int,
+) -> list[ir.Value]:  # noqa: ANN001
+    """LLVM IR: pointers to the node ids of cells ``cell`` .. ``cell + count - 1`` of ``cells``
+    (n_cells, 8, C order)."""
+    ids = context.make_array(cells_type)(context, builder, value=cells)
+    return [cgutils.get_item_pointer(context, builder, cells_type, ids,
+                                     [builder.add(cell, ir.IntType(64)(e)), ir.IntType(64)(0)])
+            for e in range(count)]  # fmt: skip
+
+
+def _id_rows(builder: ir.IRBuilder, pointers: list[ir.Value]) -> list[ir.Value]:
+    """LLVM IR: each cell's 8 node ids (from :func:`_id_pointers`) as one <8 x int> vector."""
+    row_type = ir.VectorType(pointers[0].type.pointee, 8)
+    return [builder.load(builder.bitcast(at, row_type.as_pointer()), align=4) for at in pointers]
+
+
+def _rising(builder: ir.IRBuilder, rows: list[ir.Value], base: ir.Value) -> ir.Value:
+    """LLVM IR: the corners (an i8 mask, bit a for corner a) whose ids in ``rows`` (<8 x int>
+    each) are ``base``, ``base + 1``, ... cell after cell: their nodes a run of consecutive
+    nodes."""
+    id_type = base.type.element
+    along = builder.icmp_signed("==", rows[0], base)
+    for e in range(1, len(rows)):
+        step = builder.add(base, ir.Constant(base.type, [id_type(e)] * 8))
+        along = builder.and_(along, builder.icmp_signed("==", rows[e], step))
+    return builder.bitcast(along, ir.IntType(8))
+
+
+def _node_offset(builder: ir.IRBuilder, pointer: ir.Value, a: int) -> ir.Value:
+    """LLVM IR: the flat offset (3 doubles a node) of corner ``a``'s node, its cell's ids at
+    ``pointer`` (a scalar load: cheaper than taking it out of the cell's vector)."""
+    node = builder.load(builder.gep(pointer, [ir.IntType(64)(a)]), align=4)
+    return builder.mul(ir.IntType(64)(3), builder.sext(node, ir.IntType(64)))
+
+
+def _run_rows(builder: ir.IRBuilder, data: ir.Value, first: ir.Value) -> list[ir.Value]:
+    """LLVM IR: the 3 component rows (<RUN x double> each) of RUN consecutive nodes from flat
+    offset ``first``: one load of 3 RUN doubles, split by shuffles."""
+    span = ir.VectorType(ir.DoubleType(), 3 * RUN)
+    values = builder.load(builder.bitcast(builder.gep(data, [first]), span.as_pointer()), align=8)
+    return [builder.shuffle_vector(values, values, shuffle_mask(list(range(i, 3 * RUN, 3))))
+            for i in range(3)]  # fmt: skip
+
+
+def _node_rows(
+    builder: ir.IRBuilder, arrays: list[ir.Value], offsets: list[ir.Value], flag: ir.Value
+) -> list[list[ir.Value]]:
+    """LLVM IR: the 3 component rows (<RUN x double>) of the nodes at ``offsets`` (RUN flat
+    offsets) of each nodal array: one span each where they are consecutive nodes (``flag``),
+    else each node's values gathered (:func:`transposed_lanes`). The same values either way."""
+    packed = ir.Constant(ir.ArrayType(ir.IntType(64), RUN), ir.Undefined)
+    for k, offset in enumerate(offsets):
+        packed = builder.insert_value(packed, offset, k)
+    with builder.if_else(flag) as (run, scattered):
+        with run:
+            from_run = [_run_rows(builder, data, offsets[0]) for data in arrays]
+            run_block = builder.block
+        with scattered:
+            from_nodes = [transposed_lanes(builder, data, packed, 3) for data in arrays]
+            scattered_block = builder.block
+    rows: list[list[ir.Value]] = []
+    for a_run, a_nodes in zip(from_run, from_nodes, strict=True):
+        rows.append([])
+        for r_run, r_nodes in zip(a_run, a_nodes, strict=True):
+            row = builder.phi(r_run.type)
+            row.add_incoming(r_run, run_block)
+            row.add_incoming(r_nodes, scattered_block)
+            rows[-1].append(row)
+    return rows
 
 
 @intrinsic
-def _gather_cell_rows(typingctx, w, index, nodal, offsets):  # noqa: ANN001, ANN202
-    """The 24 rows of one nodal array in the block scratch, for GATHER_LANES cells: ``w[index
-    + (3 a + i) BLOCK + k] = nodal[offsets[a][k] + i]`` for node a < 8, component i < 3 and
-    cell k < GATHER_LANES, less ``nodal[offsets[0][k] + i]`` (the cell's first node) where
-    ``w`` is single precision; the difference taken in double and rounded once. What the
-    scalar loop stores, with each node's values loaded as pairs (:func:`transposed_lanes`),
-    each row rounded and stored as one vector, and the first node's rows, already in
-    registers, serving as the origin (LLVM does none of this in the scalar loop)."""
-    lanes = types.UniTuple(types.uint64, GATHER_LANES)
+def _gather_cell_rows(typingctx, w, index_x, index_v, xs, vs, cells, cell):  # noqa: ANN001, ANN202
+    """The 24 rows of the coordinates and of the velocities in the block scratch, for the
+    GATHER_LANES cells from ``cell``: ``w[index + (3 a + i) BLOCK + k] = nodal[3 cells[cell +
+    k, a] + i]`` for node a < 8, component i < 3 and cell k < GATHER_LANES (``index_x`` with
+    ``xs``, ``index_v`` with ``vs``), less the same of node 0 (the cell's first node) where
+    ``w`` is single precision; the difference taken in double and rounded once.
+
+    What the scalar loop stores, moved RUN cells at a time: a corner's nodes of RUN cells as
+    one span where they are consecutive nodes, else each node's values loaded as pairs
+    (:func:`transposed_lanes`); each row rounded and stored as one vector, and the first
+    node's rows, already in registers, serving as the origin (LLVM does none of this in the
+    scalar loop)."""
+    double = types.Array(types.float64, 1, "C")
     if (
         not isinstance(w, types.Array)
         or w.dtype not in (types.float32, types.float64)
-        or nodal != types.Array(types.float64, 1, "C")
-        or index != types.uint64
-        or offsets != types.UniTuple(lanes, 8)
+        or xs != double
+        or vs != double
+        or index_x != types.uint64
+        or index_v != types.uint64
+        or not isinstance(cells, types.Array)
+        or cells.dtype not in (types.int32, types.int64)
+        or cells.ndim != 2
+        or cells.layout != "C"
+        or cell != types.uint64
     ):
         return None
 
     def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
         scratch = context.make_array(signature.args[0])(context, builder, value=args[0])
-        data = context.make_array(signature.args[2])(context, builder, value=args[2]).data
+        arrays = [context.make_array(double)(context, builder, value=args[k]).data
+                  for k in (3, 4)]  # fmt: skip
         element = context.get_value_type(signature.args[0].dtype)
         row_type = ir.VectorType(element, GATHER_LANES)
         relative = element != ir.DoubleType()
-        first = transposed_lanes(builder, data, builder.extract_value(args[3], 0), 3)
+        whole = shuffle_mask(list(range(GATHER_LANES)))
+        pointers = _id_pointers(context, builder, signature.args[5], args[5], args[6], GATHER_LANES)
+        ids = _id_rows(builder, pointers)
+        halves = range(0, GATHER_LANES, RUN)
+        runs = [_rising(builder, ids[h : h + RUN], ids[h]) for h in halves]
+        first = None
         for a in range(8):
-            rows = first if a == 0 else transposed_lanes(
-                builder, data, builder.extract_value(args[3], a), 3
-            )  # fmt: skip
-            for i, values in enumerate(rows):
-                row = builder.fsub(values, first[i]) if relative else values
-                if relative:
-                    row = builder.fptrunc(row, row_type)
-                at_row = builder.add(args[1], ir.Constant(ir.IntType(64), (3 * a + i) * BLOCK))
-                target = builder.gep(scratch.data, [at_row])
-                target = builder.bitcast(target, row_type.as_pointer())
-                builder.store(row, target, align=signature.args[0].dtype.bitwidth // 8)
+            offsets = [_node_offset(builder, at, a) for at in pointers]
+            bit = ir.IntType(8)(1 << a)
+            halves_rows = [
+                _node_rows(builder, arrays, offsets[h : h + RUN], builder.icmp_unsigned(
+                    "!=", builder.and_(run, bit), ir.IntType(8)(0)))
+                for h, run in zip(halves, runs, strict=True)
+            ]  # fmt: skip
+            rows = [[builder.shuffle_vector(low, high, whole)
+                     for low, high in zip(*pair, strict=True)]
+                    for pair in zip(*halves_rows, strict=True)]  # fmt: skip
+            first = rows if a == 0 else first
+            for array, index in ((0, args[1]), (1, args[2])):
+                for i, values in enumerate(rows[array]):
+                    row = builder.fsub(values, first[array][i]) if relative else values
+                    if relative:
+                        row = builder.fptrunc(row, row_type)
+                    at_row = builder.add(index, ir.Constant(ir.IntType(64), (3 * a + i) * BLOCK))
+                    target = builder.gep(scratch.data, [at_row])
+                    target = builder.bitcast(target, row_type.as_pointer())
+                    builder.store(row, target, align=signature.args[0].dtype.bitwidth // 8)
         return context.get_dummy_value()
 
-    return types.none(w, index, nodal, offsets), codegen
+    return types.none(w, index_x, index_v, xs, vs, cells, cell), codegen
 
 
 #: Typed view of the intrinsic for mypy (the same object for Numba).
 gather_cell_rows = cast(
-    "Callable[[np.ndarray, np.uint64, np.ndarray, tuple], None]", _gather_cell_rows
+    "Callable[[np.ndarray, np.uint64, np.uint64, np.ndarray, np.ndarray, np.ndarray, np.uint64],"
+    " None]",
+    _gather_cell_rows,
 )
-
-
-@nb.njit(inline="always")
-def _lane_offsets(cells: np.ndarray, cell: np.uint64, a: int) -> tuple:
-    """Flat offsets of node ``a`` of the GATHER_LANES cells from ``cell`` (unsigned)."""
-    u = np.uint64
-    return (node_offset(cells, cell, a), node_offset(cells, cell + u(1), a),
-            node_offset(cells, cell + u(2), a), node_offset(cells, cell + u(3), a),
-            node_offset(cells, cell + u(4), a), node_offset(cells, cell + u(5), a),
-            node_offset(cells, cell + u(6), a), node_offset(cells, cell + u(7), a))  # fmt: skip
 
 
 @nb.njit(fastmath=FASTMATH)
@@ -499,12 +601,7 @@ def gather_nodes(
     for e0 in range(0, whole, GATHER_LANES):
         cell = np.uint64(start + e0)
         slot = np.uint64(e0)
-        nodes = (_lane_offsets(cells, cell, 0), _lane_offsets(cells, cell, 1),
-                 _lane_offsets(cells, cell, 2), _lane_offsets(cells, cell, 3),
-                 _lane_offsets(cells, cell, 4), _lane_offsets(cells, cell, 5),
-                 _lane_offsets(cells, cell, 6), _lane_offsets(cells, cell, 7))  # fmt: skip
-        gather_cell_rows(w, _unsigned_at(R_X, slot), xs, nodes)
-        gather_cell_rows(w, _unsigned_at(R_V, slot), vs, nodes)
+        gather_cell_rows(w, _unsigned_at(R_X, slot), _unsigned_at(R_V, slot), xs, vs, cells, cell)
     # unsigned indices into flat views: no negative-index wraparound, no row strides
     for e in range(whole, n):
         cell = np.uint64(start + e)
@@ -606,17 +703,142 @@ def _add_pair(typingctx, flat, offset, first, second):  # noqa: ANN001, ANN202
 add_pair = cast("Callable[[np.ndarray, np.uint64, float, float], None]", _add_pair)
 
 
+def _interleaved_forces(
+    builder: ir.IRBuilder, scratch: ir.Value, element: ir.Type, index: ir.Value
+) -> ir.Value:
+    """LLVM IR: one corner's forces of RUN cells from the block scratch (rows ``index + i
+    BLOCK``, i < 3), widened to double and interleaved node by node: <3 RUN x double>."""
+    double = ir.DoubleType()
+    row_type = ir.VectorType(element, RUN)
+    rows = []
+    for i in range(3):
+        at = builder.add(index, ir.IntType(64)(i * BLOCK))
+        row = builder.load(builder.bitcast(builder.gep(scratch, [at]), row_type.as_pointer()),
+                           align=4)  # fmt: skip
+        rows.append(row if element == double else builder.fpext(row, ir.VectorType(double, RUN)))
+    xy = builder.shuffle_vector(
+        rows[0], rows[1], shuffle_mask([k + RUN * c for k in range(RUN) for c in (0, 1)])
+    )
+    z = builder.shuffle_vector(rows[2], rows[2], shuffle_mask(list(range(RUN)) * 2))
+    return builder.shuffle_vector(xy, z, shuffle_mask(
+        [j for k in range(RUN) for j in (2 * k, 2 * k + 1, 2 * RUN + k)]))  # fmt: skip
+
+
+def _add_span(builder: ir.IRBuilder, data: ir.Value, offset: ir.Value, values: ir.Value) -> None:
+    """LLVM IR: ``data[offset + j] += values[j]`` for each element j of the vector ``values``."""
+    target = builder.bitcast(builder.gep(data, [offset]), values.type.as_pointer())
+    builder.store(builder.fadd(builder.load(target, align=8), values), target, align=8)
+
+
+@intrinsic
+def _scatter_run_cells(typingctx, w, slot, cells, cell, flat):  # noqa: ANN001, ANN202
+    """Add the nodal forces of the RUN cells from ``cell`` (in the block scratch ``w`` from
+    ``slot``) into ``flat`` (n_points * 3 doubles) [N].
+
+    Each pair of corners along the cells' first axis (:data:`AXIS_PAIRS`) whose nodes run along
+    one line (each corner's nodes consecutive, the second corner's one on from the first's)
+    goes in as one span of 3 (RUN + 1) doubles: at the nodes both corners reach, their two
+    forces summed first, then added to the node (one load, add and store instead of 2 RUN).
+    The other pairs go in cell by cell, a node's x and y as one pair and z alone. Cells with no
+    such pair go in cell by cell, corner by corner, as :func:`scatter_forces` adds the rest."""
+    if (
+        not isinstance(w, types.Array)
+        or w.dtype not in (types.float32, types.float64)
+        or slot != types.uint64
+        or not isinstance(cells, types.Array)
+        or cells.dtype not in (types.int32, types.int64)
+        or cells.ndim != 2
+        or cells.layout != "C"
+        or cell != types.uint64
+        or flat != types.Array(types.float64, 1, "C")
+    ):
+        return None
+
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        w_type, _, cells_type, _, flat_type = signature.args
+        scratch = context.make_array(w_type)(context, builder, value=args[0]).data
+        data = context.make_array(flat_type)(context, builder, value=args[4]).data
+        element = context.get_value_type(w_type.dtype)
+        i64, i32 = ir.IntType(64), ir.IntType(32)
+        pointers = _id_pointers(context, builder, cells_type, args[2], args[3], RUN)
+        rows = _id_rows(builder, pointers)
+
+        def offset(e: int, a: int) -> ir.Value:  # flat offset of corner a of cell ``cell + e``
+            return _node_offset(builder, pointers[e], a)
+
+        def add_corner(e: int, a: int) -> None:
+            index = builder.add(args[1], i64((R_X + 3 * a) * BLOCK + e))
+            values = []
+            for i in range(3):
+                at = builder.gep(scratch, [builder.add(index, i64(i * BLOCK))])
+                value = builder.load(at)
+                values.append(value if element == ir.DoubleType() else
+                              builder.fpext(value, ir.DoubleType()))  # fmt: skip
+            node = offset(e, a)
+            pair = ir.Constant(ir.VectorType(ir.DoubleType(), 2), ir.Undefined)
+            pair = builder.insert_element(pair, values[0], i32(0))
+            pair = builder.insert_element(pair, values[1], i32(1))
+            _add_span(builder, data, node, pair)
+            z_at = builder.gep(data, [builder.add(node, i64(2))])
+            builder.store(builder.fadd(builder.load(z_at, align=8), values[2]), z_at, align=8)
+
+        # each pair along a line: corner ids rising by one from cell to cell, the pair's second
+        # corner one on from its first (integer vector compares, reduced once)
+        pair_of, one_on = [0] * 8, [0] * 8
+        for a, b in AXIS_PAIRS:
+            pair_of[a] = pair_of[b] = a
+            one_on[b] = 1
+        id_type = rows[0].type.element
+        base = builder.add(builder.shuffle_vector(rows[0], rows[0], shuffle_mask(pair_of)),
+                           ir.Constant(rows[0].type, [id_type(k) for k in one_on]))  # fmt: skip
+        every_run = builder.icmp_unsigned("==", _rising(builder, rows, base), ir.IntType(8)(255))
+        zero = ir.Constant(ir.VectorType(ir.DoubleType(), 3 * RUN), None)
+        low = shuffle_mask(list(range(3 * RUN)) + [3 * RUN] * 3)
+        high = shuffle_mask([3 * RUN] * 3 + list(range(3 * RUN)))
+        with builder.if_else(every_run, likely=True) as (by_pairs, by_cells):
+            with by_pairs:
+                for a, b in AXIS_PAIRS:
+                    first = _interleaved_forces(
+                        builder, scratch, element, builder.add(args[1], i64((R_X + 3 * a) * BLOCK))
+                    )
+                    second = _interleaved_forces(
+                        builder, scratch, element, builder.add(args[1], i64((R_X + 3 * b) * BLOCK))
+                    )
+                    both = builder.fadd(builder.shuffle_vector(first, zero, low),
+                                        builder.shuffle_vector(second, zero, high))  # fmt: skip
+                    _add_span(builder, data, offset(0, a), both)
+            with by_cells:
+                for e in range(RUN):
+                    for a in range(8):
+                        add_corner(e, a)
+        return context.get_dummy_value()
+
+    return types.none(w, slot, cells, cell, flat), codegen
+
+
+#: Typed view of the intrinsic for mypy (the same object for Numba).
+scatter_run_cells = cast(
+    "Callable[[np.ndarray, np.uint64, np.ndarray, np.uint64, np.ndarray], None]",
+    _scatter_run_cells,
+)
+
+
 @nb.njit
 def scatter_forces(
     w: np.ndarray, start: int, n: int, cells: np.ndarray, forces: np.ndarray
 ) -> None:
     """Add the nodal forces of cells start..start+n-1 into ``forces`` (a flat n_points * 3
-    view) [N].
+    view) [N]: RUN cells at a time (:func:`_scatter_run_cells`), the last n % RUN cell by cell,
+    a node's x and y as one pair and z alone. Where the cells' nodes run along lines, the
+    order of the sums at a node differs from cell by cell (round-off).
 
     ``forces`` belongs to one slot of the parallel loop, so no other thread writes it; the nodes
     of consecutive cells are neighbours, so the writes stay in cache.
     """
-    for e in range(n):
+    whole = n - n % RUN
+    for e0 in range(0, whole, RUN):
+        scatter_run_cells(w, np.uint64(e0), cells, np.uint64(start + e0), forces)
+    for e in range(whole, n):
         cell = np.uint64(start + e)
         slot = np.uint64(e)
         for a in range(8):

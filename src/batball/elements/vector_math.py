@@ -173,7 +173,7 @@ def _like(typingctx, x, value):  # noqa: ANN001, ANN202
 like = cast("Callable[[float, float], float]", _like)
 
 
-def _shuffle_mask(indices: list[int]) -> ir.Constant:
+def shuffle_mask(indices: list[int]) -> ir.Constant:
     """A constant LLVM shuffle mask."""
     return ir.Constant(ir.VectorType(_I32, len(indices)), [_I32(i) for i in indices])
 
@@ -186,7 +186,7 @@ def _joined_pairs(builder: ir.IRBuilder, bases: list[ir.Value], at: int) -> ir.V
     level = [builder.load(builder.bitcast(builder.gep(b, [offset]), pair.as_pointer()), align=8)
              for b in bases]  # fmt: skip
     while len(level) > 1:  # concatenated: (c_at, c_at+1) of vector 0, then of vector 1...
-        joined = _shuffle_mask(list(range(2 * level[0].type.count)))
+        joined = shuffle_mask(list(range(2 * level[0].type.count)))
         level = [builder.shuffle_vector(level[i], level[i + 1], joined)
                  for i in range(0, len(level), 2)]  # fmt: skip
     return level[0]
@@ -207,8 +207,8 @@ def transposed_lanes(
     (3 and 9 components) a third slower; 256-bit targets keep the inserts (not measured)."""
     lanes = len(offsets.type.elements)
     bases = [builder.gep(data, [builder.extract_value(offsets, k)]) for k in range(lanes)]
-    evens = _shuffle_mask(list(range(0, 2 * lanes, 2)))
-    odds = _shuffle_mask(list(range(1, 2 * lanes, 2)))
+    evens = shuffle_mask(list(range(0, 2 * lanes, 2)))
+    odds = shuffle_mask(list(range(1, 2 * lanes, 2)))
     rows = []
     for j in range(count // 2):
         both = _joined_pairs(builder, bases, 2 * j)

@@ -18,11 +18,13 @@ import pytest
 
 from batball.elements.hex8 import _KERNELS, compute_hex8_forces
 from batball.elements.hex8_block import (
+    AXIS_PAIRS,
     BLOCK,
     GATHER_LANES,
     N_ROWS,
     R_V,
     R_X,
+    RUN,
     element_block_viscous,
     gather_nodes,
     history_rows,
@@ -385,5 +387,90 @@ def test_force_scatter_adds_in_cell_order(dtype: type) -> None:
     values = w[R_X * BLOCK : (R_X + 24) * BLOCK].reshape(24, BLOCK)[:, :n].T  # (n, 3 a + i)
     index = (3 * own[:, :, None] + np.arange(3)).reshape(n, 24)
     np.add.at(want, index.reshape(-1), values.reshape(-1).astype(np.float64))
+    scatter_forces(w, start, n, cells, forces)
+    assert np.array_equal(forces, want)
+
+
+def cells_in_lines(n_lines: int, length: int, broken: tuple[int, ...]) -> np.ndarray:
+    """Cells along lines of ``length`` in a (length + 1) x 2 x 2 grid of nodes a line, numbered
+    along the lines (node ids rising by one along each line), so that RUN consecutive cells of
+    a line reach consecutive nodes in every corner; the lines in ``broken`` get their first
+    node swapped with a far node, so that their first cells' corners do not."""
+    per_line = 4 * (length + 1)
+    ids = np.arange(n_lines * per_line).reshape(n_lines, 2, 2, length + 1)  # (line, j, k, i)
+    for line in broken:
+        ids[line, 0, 0, 0], ids[-1, 1, 1, -1] = ids[-1, 1, 1, -1], ids[line, 0, 0, 0]
+    i = np.arange(length)
+    cells = []
+    for grid in ids:
+        corner = {
+            (di, dj, dk): grid[dj, dk, i + di] for di in (0, 1) for dj in (0, 1) for dk in (0, 1)
+        }
+        order = [
+            (0, 0, 0),
+            (1, 0, 0),
+            (1, 1, 0),
+            (0, 1, 0),
+            (0, 0, 1),
+            (1, 0, 1),
+            (1, 1, 1),
+            (0, 1, 1),
+        ]
+        cells.append(np.stack([corner[c] for c in order], axis=1))
+    return np.concatenate(cells).astype(np.int32)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_node_gather_moves_runs_of_nodes_as_spans(dtype: type) -> None:
+    # lines of 12 cells, two of them with a first node from elsewhere: the gather loads a
+    # corner's nodes of RUN cells as one span where they are consecutive, else node by node;
+    # the rows must be what NumPy takes from each cell's nodes either way
+    cells = cells_in_lines(n_lines=6, length=12, broken=(1, 4))
+    rng = np.random.default_rng(5)
+    n_points = cells.max() + 1
+    points = 0.05 + 0.01 * rng.standard_normal((n_points, 3))
+    velocities = 42.0 + rng.standard_normal((n_points, 3))
+    for start in range(0, cells.shape[0] - BLOCK + 1, 4):
+        w = np.full(N_ROWS * BLOCK, np.nan, dtype=dtype)
+        gather_nodes(w, start, BLOCK, points.reshape(-1), velocities.reshape(-1), cells)
+        own = cells[start : start + BLOCK]
+        for row, values in ((R_X, points), (R_V, velocities)):
+            nodal = values[own]
+            if dtype == np.float32:
+                nodal = nodal - nodal[:, :1, :]
+            want = nodal.reshape(BLOCK, 24).T.astype(dtype)
+            assert np.array_equal(w[row * BLOCK : (row + 24) * BLOCK].reshape(24, BLOCK), want)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_force_scatter_adds_runs_of_nodes_pair_by_pair(dtype: type) -> None:
+    # RUN cells whose four pairs of corners along the first axis all run along lines of nodes:
+    # each pair's two forces are summed in double first (the second corner's one node on),
+    # then added to the RUN + 1 nodes; RUN cells with any other corner go in cell by cell
+    # (np.add.at, in the order given). Forces from 1 to 1e9, so another order would show.
+    cells = cells_in_lines(n_lines=4, length=12, broken=(2,))
+    rng = np.random.default_rng(3)
+    n_points = cells.max() + 1
+    w = rng.standard_normal(N_ROWS * BLOCK).astype(dtype)
+    forces = rng.standard_normal(n_points * 3) * 10.0 ** rng.uniform(0.0, 9.0, n_points * 3)
+    want = forces.copy()
+    start, n = 8, BLOCK
+    values = w[R_X * BLOCK : (R_X + 24) * BLOCK].reshape(24, BLOCK).astype(np.float64)
+    for e0 in range(0, n, RUN):
+        own = cells[start + e0 : start + e0 + RUN]
+        rising = np.all(np.diff(own, axis=0) == 1, axis=0)  # each corner, cell to cell
+        lines = all(rising[a] and rising[b] and own[0, b] == own[0, a] + 1 for a, b in AXIS_PAIRS)
+        if lines:
+            for a, b in AXIS_PAIRS:
+                first = values[3 * a : 3 * a + 3, e0 : e0 + RUN].T  # (RUN, 3)
+                second = values[3 * b : 3 * b + 3, e0 : e0 + RUN].T
+                span = np.zeros((RUN + 1, 3))
+                span[:RUN] += first
+                span[1:] += second
+                nodes = 3 * own[0, a] + np.arange(3 * (RUN + 1))
+                want[nodes] += span.reshape(-1)
+        else:
+            index = (3 * own[:, :, None] + np.arange(3)).reshape(RUN, 24)
+            np.add.at(want, index.reshape(-1), values[:, e0 : e0 + RUN].T.reshape(-1))
     scatter_forces(w, start, n, cells, forces)
     assert np.array_equal(forces, want)
