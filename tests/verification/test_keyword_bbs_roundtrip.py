@@ -11,7 +11,7 @@ not smooth at that level: the reference volumes set the initial pressure K ln(V0
 leaves the flight's tr D at round-off of either sign, and the stable step's bulk-viscosity term
 applies only while tr D < 0, so a step can be 4 % longer or shorter. Measured on the direct
 run, a 2e-14 change of the reference volumes moved e_A by 1.5e-6 with the earlier node
-numbering and 4.8e-6 with the present one; the deck's run differs by 3.9e-6. So the run is held
+numbering and 4.8e-6 with the present one; the deck's run differs by 3.5e-6. So the run is held
 to the standard format's bounds (below) in both formats. Standard format keeps 5 to 6
 significant digits of a 10-column real (the ball's moduli and density, the laminae), rounding
 each by up to 5e-6. The coarse run is not smooth at that level: a node of the 189-hex ball

@@ -87,12 +87,16 @@ def _merge_blocks(
     return keys, np.concatenate(cell_blocks), block_cell_ids
 
 
-def _slab_order(centroids: np.ndarray, n_slabs: int) -> np.ndarray:
-    """The order of cells with these centroids (n_cells, 3) along slabs: by the slab of z, then of
-    y, then of x, ``n_slabs`` slabs of equal width across the mesh in each direction."""
-    low, high = centroids.min(axis=0), centroids.max(axis=0)
-    width = np.where(high > low, high - low, 1.0)
-    slab = np.minimum((centroids - low) / width * n_slabs, n_slabs - 1).astype(np.int64)
+def _slab_order(positions: np.ndarray, n_slabs: int) -> np.ndarray:
+    """The order of items at these integer positions (n, 3) along slabs: by the slab of z, then
+    of y, then of x, ``n_slabs`` slabs of equal width across the range in each direction.
+
+    Integer arithmetic throughout: the mesh is symmetric, so many positions sit exactly on a
+    slab boundary, where floating-point round-off (a radius that differs in the last digit)
+    would move them from one slab to the next and renumber the mesh."""
+    low, high = positions.min(axis=0), positions.max(axis=0)
+    width = np.maximum(high - low, 1)
+    slab = np.minimum((positions - low) * n_slabs // width, n_slabs - 1)
     return np.lexsort((slab[:, 0], slab[:, 1], slab[:, 2]))
 
 
@@ -107,13 +111,17 @@ def _x_lines(keys: np.ndarray, divisions: int) -> tuple[np.ndarray, np.ndarray]:
     """Each node's line of nodes running in x, and its place along it: ``(line, place)``, line
     keys (n, 3) and integer places (n,).
 
-    The core's x-lines run on through the two x shell blocks (radially there), from the sphere
-    at -x to the sphere at +x: 3 divisions + 1 nodes. The other shell blocks' lines of nodes in
-    x (tangential) end on the x blocks, whose lines keep those end nodes, so there a line holds
-    the divisions - 1 nodes between; in the layer that meets the core they are the core's own."""
+    The other four shell blocks' lines of nodes in x (tangential) run across the block, ends
+    included: divisions + 1 nodes, the two end nodes shared with the x shell blocks. The core's
+    x-lines run on radially through the two x shell blocks, from the sphere at -x to the sphere
+    at +x (3 divisions + 1 nodes), except those on the core's faces toward the other blocks:
+    their nodes in the x blocks already lie on those blocks' lines, so they hold the core's
+    divisions + 1 nodes only. (Giving the shared nodes to the radial lines instead leaves the
+    tangential lines' end cells without runs: 82 % of the corners of four-cell groups run on
+    the 12-division ball that way, 95 % this way.)"""
     n = divisions
     layer, qx, qy, qz = keys.T
-    through = (layer == 0) | (np.abs(qx) == n)
+    through = (layer == 0) | ((np.abs(qx) == n) & (np.abs(qy) < n) & (np.abs(qz) < n))
     place = np.where(layer == 0, n + (qx + n) // 2, (qx + n) // 2)
     place = np.where(through & (layer > 0), np.where(qx < 0, n - layer, 2 * n + layer), place)
     return np.stack([qy, qz, np.where(through, -1, layer)], axis=1), place
@@ -236,9 +244,10 @@ def make_ball_mesh(radius: float, *, divisions: int = 12) -> Mesh:
     cells = _in_lines(cells, divisions)
     block_cells = np.arange(len(cells)).reshape(7, -1)
     points = _positions(keys, divisions, radius)
-    # whole lines in slabs of their centroids
-    line_centroids = points[cells].mean(axis=1).reshape(-1, divisions, 3).mean(axis=1)
-    lines = _slab_order(line_centroids, 2 * divisions)
+    # whole lines in slabs of their centroids in key space (integer sums of q over the line's
+    # corners: the same order on the sphere, as q rises with x, y and z in every block)
+    line_sums = keys[cells, 1:].sum(axis=1).reshape(-1, divisions, 3).sum(axis=1)
+    lines = _slab_order(line_sums, 2 * divisions)
     order = (lines[:, None] * divisions + np.arange(divisions)).ravel()
     rank = _inverse(order)
     cells, block_cell_ids = cells[order], [np.sort(rank[ids]) for ids in block_cells]

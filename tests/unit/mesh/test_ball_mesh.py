@@ -102,15 +102,27 @@ def test_node_numbering_keeps_the_solver_halves_apart(ball: tuple[int, Mesh]) ->
 
 def test_cells_run_along_lines_of_consecutive_nodes(ball: tuple[int, Mesh]) -> None:
     # Each run of n cells is one line, each cell's face (1, 2, 5, 6) the next one's (0, 3, 4, 7).
-    # Along the 3 n^2 lines through the core and the x blocks every corner's node id rises by
-    # one from a cell to the next. The other four blocks' 4 n^2 lines end on the x blocks,
-    # whose lines keep the end nodes, so there only the n - 3 steps clear of both ends rise in
-    # every corner (the element kernel moves such runs of nodes as one span).
+    # Along the core's n^2 lines and the other four shell blocks' 4 n^2 every corner's node id
+    # rises by one from a cell to the next. The x blocks' lines run radially; the nodes on their
+    # edges toward the other blocks lie on those blocks' lines, so only their (n - 2)^2 inner
+    # lines a block rise (the element kernel moves such runs of nodes as one span).
     n, mesh = ball
     lines = mesh.cells.reshape(-1, n, 8)
     assert np.array_equal(lines[:, 1:, [0, 3, 4, 7]], lines[:, :-1, [1, 2, 5, 6]])
     rising = np.all(np.diff(lines, axis=1) == 1, axis=2)
-    assert rising.sum() == 3 * n**2 * (n - 1) + 4 * n**2 * max(n - 3, 0)
+    assert rising.sum() == (n - 1) * (n**2 + 4 * n**2 + 2 * (n - 2) ** 2)
+
+
+@pytest.mark.parametrize("divisions", [3, 4, 12])
+def test_numbering_does_not_depend_on_the_radius(divisions: int) -> None:
+    # a deck's ball is rebuilt from its radius read back (a few digits) and must have the same
+    # nodes and cells: many lines sit exactly on a slab boundary of the ordering, where a
+    # radius one part in 1e7 or 1e12 away must not move them
+    mesh = make_ball_mesh(RADIUS, divisions=divisions)
+    for scale in (1.0 + 1e-12, 1.0 - 1e-12, 1.0 + 3e-7):
+        other = make_ball_mesh(RADIUS * scale, divisions=divisions)
+        assert np.array_equal(other.cells, mesh.cells)
+        np.testing.assert_allclose(other.points, mesh.points * scale, rtol=0, atol=1e-15)
 
 
 def test_every_cell_has_positive_volume_and_good_shape(ball: tuple[int, Mesh]) -> None:
