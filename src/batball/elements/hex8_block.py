@@ -544,28 +544,48 @@ def _gather_cell_rows(typingctx, w, index_x, index_v, xs, vs, cells, cell):  # n
         ids = _id_rows(builder, pointers)
         halves = range(0, GATHER_LANES, RUN)
         runs = [_rising(builder, ids[h : h + RUN], ids[h]) for h in halves]
-        first = None
-        for a in range(8):
+
+        def store_rows(corner_halves: Callable[[int], list[list[list[ir.Value]]]]) -> None:
+            """Store each corner's rows, its halves' rows (per half, per array, per component)
+            given by ``corner_halves``."""
+            first = None
+            for a in range(8):
+                rows = [[builder.shuffle_vector(low, high, whole)
+                         for low, high in zip(*pair, strict=True)]
+                        for pair in zip(*corner_halves(a), strict=True)]  # fmt: skip
+                first = rows if a == 0 else first
+                for array, index in ((0, args[1]), (1, args[2])):
+                    for i, values in enumerate(rows[array]):
+                        row = builder.fsub(values, first[array][i]) if relative else values
+                        if relative:
+                            row = builder.fptrunc(row, row_type)
+                        at_row = builder.add(index, ir.IntType(64)((3 * a + i) * BLOCK))
+                        target = builder.gep(scratch.data, [at_row])
+                        target = builder.bitcast(target, row_type.as_pointer())
+                        builder.store(row, target, align=signature.args[0].dtype.bitwidth // 8)
+
+        def spans(a: int) -> list[list[list[ir.Value]]]:
+            return [[_run_rows(builder, data, _node_offset(builder, pointers[h], a))
+                     for data in arrays] for h in halves]  # fmt: skip
+
+        def corner_by_corner(a: int) -> list[list[list[ir.Value]]]:
             offsets = [_node_offset(builder, at, a) for at in pointers]
             bit = ir.IntType(8)(1 << a)
-            halves_rows = [
+            return [
                 _node_rows(builder, arrays, offsets[h : h + RUN], builder.icmp_unsigned(
                     "!=", builder.and_(run, bit), ir.IntType(8)(0)))
                 for h, run in zip(halves, runs, strict=True)
             ]  # fmt: skip
-            rows = [[builder.shuffle_vector(low, high, whole)
-                     for low, high in zip(*pair, strict=True)]
-                    for pair in zip(*halves_rows, strict=True)]  # fmt: skip
-            first = rows if a == 0 else first
-            for array, index in ((0, args[1]), (1, args[2])):
-                for i, values in enumerate(rows[array]):
-                    row = builder.fsub(values, first[array][i]) if relative else values
-                    if relative:
-                        row = builder.fptrunc(row, row_type)
-                    at_row = builder.add(index, ir.Constant(ir.IntType(64), (3 * a + i) * BLOCK))
-                    target = builder.gep(scratch.data, [at_row])
-                    target = builder.bitcast(target, row_type.as_pointer())
-                    builder.store(row, target, align=signature.args[0].dtype.bitwidth // 8)
+
+        # every corner of both halves a run: one straight block of spans, scheduled as a whole
+        every = ir.IntType(8)(255)
+        all_runs = builder.and_(builder.icmp_unsigned("==", runs[0], every),
+                                builder.icmp_unsigned("==", runs[1], every))  # fmt: skip
+        with builder.if_else(all_runs, likely=True) as (straight, mixed):
+            with straight:
+                store_rows(spans)
+            with mixed:
+                store_rows(corner_by_corner)
         return context.get_dummy_value()
 
     return types.none(w, index_x, index_v, xs, vs, cells, cell), codegen
