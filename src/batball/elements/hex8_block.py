@@ -548,7 +548,7 @@ def _gather_cell_rows(typingctx, w, index_x, index_v, xs, vs, cells, cell):  # n
         def store_rows(corner_halves: Callable[[int], list[list[list[ir.Value]]]]) -> None:
             """Store each corner's rows, its halves' rows (per half, per array, per component)
             given by ``corner_halves``."""
-            first = None
+            first: list[list[ir.Value]] = []
             for a in range(8):
                 rows = [[builder.shuffle_vector(low, high, whole)
                          for low, high in zip(*pair, strict=True)]
