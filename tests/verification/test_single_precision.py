@@ -4,7 +4,7 @@ The double kernel is checked against a plain per-element reference (tests/unit/e
 the single kernel, LS-DYNA's default precision and the impact lab's default, must give the same
 test results. float32 round-off (eps 6e-8) in each element's stress and force feeds the run as
 a random perturbation; the observed differences are about 1e-6 in CCOR and 1e-4 relative in
-dynamic stiffness and peak force (4-division ball, docs/notes/precision.md).
+dynamic stiffness and peak force (measured on a 4-division ball, docs/notes/precision.md).
 
 The coarse run is not smooth at round-off, though. The stable step's bulk-viscosity term (Q =
 Q2 c + Q1 L |tr D|) applies only while tr D < 0, and before contact tr D is round-off of either
@@ -12,8 +12,8 @@ sign, so a step early in the flight can be 4 % longer or shorter. On the 3-divis
 moved type 1's peak force by 5.2e-4 between single and double, and a 1e-9 change of the speed
 moved its double-precision peak by the same (measured 2026-12-06). The bounds: 1e-3 on the peak
 force (twice that), 2e-3 on the dynamic stiffness (F_peak^2 / (m v^2): twice the peak's
-relative bound), 1e-5 on CCOR and 1e-2 on the contact time; all two orders of magnitude under
-the targets against LS-DYNA (0.01 in CCOR, 5 % in DS and peak force, 10 % in contact time).
+relative bound), 1e-5 on CCOR and 1e-2 on the contact time; 10 to 1000 times under the
+targets against LS-DYNA (0.01 in CCOR, 5 % in DS and peak force, 10 % in contact time).
 """
 
 from __future__ import annotations

@@ -134,7 +134,10 @@ def _advance_all(element_block, mesh, material, history, outputs, controls):
 
 
 # One compiled kernel per hourglass form, so that a run compiles (and caches) only its own.
-# Numba's cache is keyed on this file alone: touch it after editing the modules it inlines.
+# Numba's cache is keyed on this file alone: after editing the modules it inlines, change
+# INLINED below, so that a cache compiled from the old code is not loaded (a checkout leaves
+# this file's time stamp as it was unless its text changes).
+INLINED = "hex8_block: the node gather and force scatter by runs of consecutive nodes"
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)

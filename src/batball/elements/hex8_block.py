@@ -755,12 +755,13 @@ def _scatter_run_cells(typingctx, w, slot, cells, cell, flat):  # noqa: ANN001, 
     """Add the nodal forces of the RUN cells from ``cell`` (in the block scratch ``w`` from
     ``slot``) into ``flat`` (n_points * 3 doubles) [N].
 
-    Each pair of corners along the cells' first axis (:data:`AXIS_PAIRS`) whose nodes run along
-    one line (each corner's nodes consecutive, the second corner's one on from the first's)
-    goes in as one span of 3 (RUN + 1) doubles: at the nodes both corners reach, their two
-    forces summed first, then added to the node (one load, add and store instead of 2 RUN).
-    The other pairs go in cell by cell, a node's x and y as one pair and z alone. Cells with no
-    such pair go in cell by cell, corner by corner, as :func:`scatter_forces` adds the rest."""
+    Where all four pairs of corners along the cells' first axis (:data:`AXIS_PAIRS`) run along
+    lines of nodes (each corner's nodes consecutive, the second corner's one on from the
+    first's), each pair goes in as one span of 3 (RUN + 1) doubles: at the nodes both corners
+    reach, their two forces summed first, then added to the node (one load, add and store
+    instead of 2 RUN). Otherwise the cells go in cell by cell, corner by corner, a node's x and
+    y as one pair and z alone, as :func:`scatter_forces` adds the rest: the sums of the code
+    before runs, and their bits."""
     if (
         not isinstance(w, types.Array)
         or w.dtype not in (types.float32, types.float64)

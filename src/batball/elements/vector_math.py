@@ -21,7 +21,7 @@ from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
 
-from batball.numerics import FASTMATH, wide_vectors
+from batball.numerics import FASTMATH
 
 _MANTISSA = np.uint64(0x000FFFFFFFFFFFFF)
 _ONE_BITS = np.uint64(0x3FF0000000000000)  # bits of 1.0
@@ -200,11 +200,9 @@ def transposed_lanes(
     <L x double> of one component across the vectors. Each vector's components are loaded in
     pairs and the pairs interleaved by shuffles, which LLVM lowers to unpack and lane-insert
     instructions: half the loads of one value at a time. An odd last component is inserted
-    value by value, except with 8 lanes where the kernels are compiled for 512-bit vectors:
-    there it comes from the pairs (c_count-2, c_count-1), whose odd lanes it keeps (every load
-    stays inside its vector). On a Sapphire Rapids Xeon that made the hex node gather (8
-    lanes, 3 components) 6 % faster, while the same with 4 lanes made the MITC4 corner gather
-    (3 and 9 components) a third slower; 256-bit targets keep the inserts (not measured)."""
+    value by value. (Taking it from the odd lanes of the pairs (c_count-2, c_count-1) instead
+    made an 8-lane gather 6 % faster on a Sapphire Rapids Xeon but the 4-lane MITC4 corner
+    gather a third slower; the callers now use 4 lanes.)"""
     lanes = len(offsets.type.elements)
     bases = [builder.gep(data, [builder.extract_value(offsets, k)]) for k in range(lanes)]
     evens = shuffle_mask(list(range(0, 2 * lanes, 2)))
@@ -214,10 +212,7 @@ def transposed_lanes(
         both = _joined_pairs(builder, bases, 2 * j)
         rows.append(builder.shuffle_vector(both, both, evens))
         rows.append(builder.shuffle_vector(both, both, odds))
-    if count % 2 and count >= 3 and lanes == 8 and wide_vectors():
-        both = _joined_pairs(builder, bases, count - 2)
-        rows.append(builder.shuffle_vector(both, both, odds))
-    elif count % 2:
+    if count % 2:
         row = ir.Constant(ir.VectorType(ir.DoubleType(), lanes), ir.Undefined)
         for k, b in enumerate(bases):
             value = builder.load(builder.gep(b, [ir.IntType(64)(count - 1)]), align=8)

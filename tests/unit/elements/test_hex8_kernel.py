@@ -372,9 +372,10 @@ def test_node_gather_matches_numpy(dtype: type, n: int) -> None:
 
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
 def test_force_scatter_adds_in_cell_order(dtype: type) -> None:
-    # each node's sum must run over its cells in cell order (the double kernel's bits, and the
-    # same sums on any number of threads, rest on it), each float32 force widened exactly;
-    # np.add.at applies repeated indices one after another in the order given
+    # cells without runs of consecutive nodes (random ids): each node's sum must run over its
+    # cells in cell order, each float32 force widened exactly, as before the scatter by runs
+    # (test_force_scatter_adds_runs_of_nodes_pair_by_pair); np.add.at applies repeated
+    # indices one after another in the order given
     rng = np.random.default_rng(11)
     n_points, start, n = 30, 3, BLOCK  # few nodes: each is shared by many cells
     cells = rng.integers(0, n_points, size=(start + n, 8)).astype(np.int32)
@@ -420,12 +421,13 @@ def cells_in_lines(n_lines: int, length: int, broken: tuple[int, ...]) -> np.nda
     return np.concatenate(cells).astype(np.int32)
 
 
+@pytest.mark.parametrize("ids", [np.int32, np.int64])
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
-def test_node_gather_moves_runs_of_nodes_as_spans(dtype: type) -> None:
+def test_node_gather_moves_runs_of_nodes_as_spans(dtype: type, ids: type) -> None:
     # lines of 12 cells, two of them with a first node from elsewhere: the gather loads a
     # corner's nodes of RUN cells as one span where they are consecutive, else node by node;
     # the rows must be what NumPy takes from each cell's nodes either way
-    cells = cells_in_lines(n_lines=6, length=12, broken=(1, 4))
+    cells = cells_in_lines(n_lines=6, length=12, broken=(1, 4)).astype(ids)
     rng = np.random.default_rng(5)
     n_points = cells.max() + 1
     points = 0.05 + 0.01 * rng.standard_normal((n_points, 3))
@@ -442,25 +444,39 @@ def test_node_gather_moves_runs_of_nodes_as_spans(dtype: type) -> None:
             assert np.array_equal(w[row * BLOCK : (row + 24) * BLOCK].reshape(24, BLOCK), want)
 
 
+@pytest.mark.parametrize("ids", [np.int32, np.int64])
 @pytest.mark.parametrize("dtype", [np.float32, np.float64])
-def test_force_scatter_adds_runs_of_nodes_pair_by_pair(dtype: type) -> None:
+def test_force_scatter_adds_runs_of_nodes_pair_by_pair(dtype: type, ids: type) -> None:
     # RUN cells whose four pairs of corners along the first axis all run along lines of nodes:
     # each pair's two forces are summed in double first (the second corner's one node on),
-    # then added to the RUN + 1 nodes; RUN cells with any other corner go in cell by cell
-    # (np.add.at, in the order given). Forces from 1 to 1e9, so another order would show.
-    cells = cells_in_lines(n_lines=4, length=12, broken=(2,))
+    # then added to the RUN + 1 nodes; RUN cells with any other corner, four cells whose
+    # corners all rise but not as pairs one node apart, and the last n % RUN cells go in cell by
+    # cell (np.add.at, in the order given). Forces from 1 to 1e9, so another order would show.
+    lines = cells_in_lines(n_lines=4, length=12, broken=(2,))
+    base = lines.max() + 1
+    unjoined = base + 100 * np.arange(8)[None, :] + np.arange(RUN)[:, None]  # ids 100 a + e
+    rest = np.random.default_rng(4).integers(0, base, size=(3, 8))
+    cells = np.concatenate([lines, unjoined, rest]).astype(ids)
     rng = np.random.default_rng(3)
     n_points = cells.max() + 1
     w = rng.standard_normal(N_ROWS * BLOCK).astype(dtype)
     forces = rng.standard_normal(n_points * 3) * 10.0 ** rng.uniform(0.0, 9.0, n_points * 3)
     want = forces.copy()
-    start, n = 8, BLOCK
+    start, n = 24, BLOCK - 1  # a broken line's first group, runs, the unjoined group, 3 more
     values = w[R_X * BLOCK : (R_X + 24) * BLOCK].reshape(24, BLOCK).astype(np.float64)
-    for e0 in range(0, n, RUN):
-        own = cells[start + e0 : start + e0 + RUN]
+
+    def cell_by_cell(e0: int, count: int) -> None:
+        own = cells[start + e0 : start + e0 + count].astype(np.int64)
+        index = (3 * own[:, :, None] + np.arange(3)).reshape(count, 24)
+        np.add.at(want, index.reshape(-1), values[:, e0 : e0 + count].T.reshape(-1))
+
+    whole = n - n % RUN
+    spans = 0
+    for e0 in range(0, whole, RUN):
+        own = cells[start + e0 : start + e0 + RUN].astype(np.int64)
         rising = np.all(np.diff(own, axis=0) == 1, axis=0)  # each corner, cell to cell
-        lines = all(rising[a] and rising[b] and own[0, b] == own[0, a] + 1 for a, b in AXIS_PAIRS)
-        if lines:
+        if all(rising[a] and rising[b] and own[0, b] == own[0, a] + 1 for a, b in AXIS_PAIRS):
+            spans += 1
             for a, b in AXIS_PAIRS:
                 first = values[3 * a : 3 * a + 3, e0 : e0 + RUN].T  # (RUN, 3)
                 second = values[3 * b : 3 * b + 3, e0 : e0 + RUN].T
@@ -470,7 +486,10 @@ def test_force_scatter_adds_runs_of_nodes_pair_by_pair(dtype: type) -> None:
                 nodes = 3 * own[0, a] + np.arange(3 * (RUN + 1))
                 want[nodes] += span.reshape(-1)
         else:
-            index = (3 * own[:, :, None] + np.arange(3)).reshape(RUN, 24)
-            np.add.at(want, index.reshape(-1), values[:, e0 : e0 + RUN].T.reshape(-1))
+            cell_by_cell(e0, RUN)
+    cell_by_cell(whole, n - whole)
+    # of the 7 groups, cell by cell: the broken line's first, the last line's last (the node it
+    # swapped with) and the unjoined one
+    assert spans == 4
     scatter_forces(w, start, n, cells, forces)
     assert np.array_equal(forces, want)
