@@ -503,6 +503,47 @@ def _node_rows(
     return rows
 
 
+def _scratch_and_ids(w: types.Type, cells: types.Type) -> bool:
+    """Whether ``w`` is a float32 or float64 block scratch and ``cells`` a C-ordered 2-D array
+    of int32 or int64 node ids (the types the run intrinsics compile for)."""
+    return (
+        isinstance(w, types.Array)
+        and w.dtype in (types.float32, types.float64)
+        and isinstance(cells, types.Array)
+        and cells.dtype in (types.int32, types.int64)
+        and cells.ndim == 2
+        and cells.layout == "C"
+    )
+
+
+def _store_corner_rows(
+    builder: ir.IRBuilder,
+    scratch: ir.Value,
+    row_type: ir.VectorType,
+    indices: tuple[ir.Value, ir.Value],
+    corner_halves: Callable[[int], list[list[list[ir.Value]]]],
+) -> None:
+    """LLVM IR: store the rows of the 8 corners into the block scratch (rows ``indices[array]
+    + (3 a + i) BLOCK``), each corner's rows joined from its halves' (per half, per array, per
+    component, from ``corner_halves``); in single precision less corner 0's, rounded once."""
+    relative = row_type.element != ir.DoubleType()
+    whole = shuffle_mask(list(range(GATHER_LANES)))
+    first: list[list[ir.Value]] = []
+    for a in range(8):
+        rows = [[builder.shuffle_vector(low, high, whole)
+                 for low, high in zip(*pair, strict=True)]
+                for pair in zip(*corner_halves(a), strict=True)]  # fmt: skip
+        first = rows if a == 0 else first
+        for array, index in enumerate(indices):
+            for i, values in enumerate(rows[array]):
+                row = builder.fsub(values, first[array][i]) if relative else values
+                if relative:
+                    row = builder.fptrunc(row, row_type)
+                at_row = builder.add(index, ir.IntType(64)((3 * a + i) * BLOCK))
+                target = builder.bitcast(builder.gep(scratch, [at_row]), row_type.as_pointer())
+                builder.store(row, target, align=4 if relative else 8)
+
+
 @intrinsic
 def _gather_cell_rows(typingctx, w, index_x, index_v, xs, vs, cells, cell):  # noqa: ANN001, ANN202
     """The 24 rows of the coordinates and of the velocities in the block scratch, for the
@@ -518,51 +559,24 @@ def _gather_cell_rows(typingctx, w, index_x, index_v, xs, vs, cells, cell):  # n
     scalar loop)."""
     double = types.Array(types.float64, 1, "C")
     if (
-        not isinstance(w, types.Array)
-        or w.dtype not in (types.float32, types.float64)
+        not _scratch_and_ids(w, cells)
         or xs != double
         or vs != double
         or index_x != types.uint64
         or index_v != types.uint64
-        or not isinstance(cells, types.Array)
-        or cells.dtype not in (types.int32, types.int64)
-        or cells.ndim != 2
-        or cells.layout != "C"
         or cell != types.uint64
     ):
         return None
 
     def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
-        scratch = context.make_array(signature.args[0])(context, builder, value=args[0])
+        scratch = context.make_array(signature.args[0])(context, builder, value=args[0]).data
         arrays = [context.make_array(double)(context, builder, value=args[k]).data
                   for k in (3, 4)]  # fmt: skip
-        element = context.get_value_type(signature.args[0].dtype)
-        row_type = ir.VectorType(element, GATHER_LANES)
-        relative = element != ir.DoubleType()
-        whole = shuffle_mask(list(range(GATHER_LANES)))
+        row_type = ir.VectorType(context.get_value_type(signature.args[0].dtype), GATHER_LANES)
         pointers = _id_pointers(context, builder, signature.args[5], args[5], args[6], GATHER_LANES)
         ids = _id_rows(builder, pointers)
         halves = range(0, GATHER_LANES, RUN)
         runs = [_rising(builder, ids[h : h + RUN], ids[h]) for h in halves]
-
-        def store_rows(corner_halves: Callable[[int], list[list[list[ir.Value]]]]) -> None:
-            """Store each corner's rows, its halves' rows (per half, per array, per component)
-            given by ``corner_halves``."""
-            first: list[list[ir.Value]] = []
-            for a in range(8):
-                rows = [[builder.shuffle_vector(low, high, whole)
-                         for low, high in zip(*pair, strict=True)]
-                        for pair in zip(*corner_halves(a), strict=True)]  # fmt: skip
-                first = rows if a == 0 else first
-                for array, index in ((0, args[1]), (1, args[2])):
-                    for i, values in enumerate(rows[array]):
-                        row = builder.fsub(values, first[array][i]) if relative else values
-                        if relative:
-                            row = builder.fptrunc(row, row_type)
-                        at_row = builder.add(index, ir.IntType(64)((3 * a + i) * BLOCK))
-                        target = builder.gep(scratch.data, [at_row])
-                        target = builder.bitcast(target, row_type.as_pointer())
-                        builder.store(row, target, align=signature.args[0].dtype.bitwidth // 8)
 
         def spans(a: int) -> list[list[list[ir.Value]]]:
             return [[_run_rows(builder, data, _node_offset(builder, pointers[h], a))
@@ -581,11 +595,12 @@ def _gather_cell_rows(typingctx, w, index_x, index_v, xs, vs, cells, cell):  # n
         every = ir.IntType(8)(255)
         all_runs = builder.and_(builder.icmp_unsigned("==", runs[0], every),
                                 builder.icmp_unsigned("==", runs[1], every))  # fmt: skip
+        indices = (args[1], args[2])
         with builder.if_else(all_runs, likely=True) as (straight, mixed):
             with straight:
-                store_rows(spans)
+                _store_corner_rows(builder, scratch, row_type, indices, spans)
             with mixed:
-                store_rows(corner_by_corner)
+                _store_corner_rows(builder, scratch, row_type, indices, corner_by_corner)
         return context.get_dummy_value()
 
     return types.none(w, index_x, index_v, xs, vs, cells, cell), codegen
@@ -750,6 +765,45 @@ def _add_span(builder: ir.IRBuilder, data: ir.Value, offset: ir.Value, values: i
     builder.store(builder.fadd(builder.load(target, align=8), values), target, align=8)
 
 
+def _add_corner_force(
+    builder: ir.IRBuilder,
+    scratch: ir.Value,
+    element: ir.Type,
+    index: ir.Value,
+    data: ir.Value,
+    node: ir.Value,
+) -> None:
+    """LLVM IR: add one cell's corner force (rows ``index + i BLOCK`` of the block scratch,
+    widened exactly to double) into the node at flat offset ``node``: x and y as one pair, z
+    alone."""
+    values = []
+    for i in range(3):
+        value = builder.load(builder.gep(scratch, [builder.add(index, ir.IntType(64)(i * BLOCK))]))
+        values.append(
+            value if element == ir.DoubleType() else builder.fpext(value, ir.DoubleType())
+        )
+    pair = ir.Constant(ir.VectorType(ir.DoubleType(), 2), ir.Undefined)
+    pair = builder.insert_element(pair, values[0], ir.IntType(32)(0))
+    pair = builder.insert_element(pair, values[1], ir.IntType(32)(1))
+    _add_span(builder, data, node, pair)
+    z_at = builder.gep(data, [builder.add(node, ir.IntType(64)(2))])
+    builder.store(builder.fadd(builder.load(z_at, align=8), values[2]), z_at, align=8)
+
+
+def _pairs_along_lines(builder: ir.IRBuilder, rows: list[ir.Value]) -> ir.Value:
+    """LLVM IR: whether every pair of :data:`AXIS_PAIRS` of the cells with these id rows runs
+    along a line of nodes: each corner's id rising by one from cell to cell, the pair's second
+    corner one on from its first (integer vector compares, reduced once)."""
+    pair_of, one_on = [0] * 8, [0] * 8
+    for a, b in AXIS_PAIRS:
+        pair_of[a] = pair_of[b] = a
+        one_on[b] = 1
+    id_type = rows[0].type.element
+    base = builder.add(builder.shuffle_vector(rows[0], rows[0], shuffle_mask(pair_of)),
+                       ir.Constant(rows[0].type, [id_type(k) for k in one_on]))  # fmt: skip
+    return builder.icmp_unsigned("==", _rising(builder, rows, base), ir.IntType(8)(255))
+
+
 @intrinsic
 def _scatter_run_cells(typingctx, w, slot, cells, cell, flat):  # noqa: ANN001, ANN202
     """Add the nodal forces of the RUN cells from ``cell`` (in the block scratch ``w`` from
@@ -763,13 +817,8 @@ def _scatter_run_cells(typingctx, w, slot, cells, cell, flat):  # noqa: ANN001, 
     y as one pair and z alone, as :func:`scatter_forces` adds the rest: the sums of the code
     before runs, and their bits."""
     if (
-        not isinstance(w, types.Array)
-        or w.dtype not in (types.float32, types.float64)
+        not _scratch_and_ids(w, cells)
         or slot != types.uint64
-        or not isinstance(cells, types.Array)
-        or cells.dtype not in (types.int32, types.int64)
-        or cells.ndim != 2
-        or cells.layout != "C"
         or cell != types.uint64
         or flat != types.Array(types.float64, 1, "C")
     ):
@@ -780,7 +829,7 @@ def _scatter_run_cells(typingctx, w, slot, cells, cell, flat):  # noqa: ANN001, 
         scratch = context.make_array(w_type)(context, builder, value=args[0]).data
         data = context.make_array(flat_type)(context, builder, value=args[4]).data
         element = context.get_value_type(w_type.dtype)
-        i64, i32 = ir.IntType(64), ir.IntType(32)
+        i64 = ir.IntType(64)
         pointers = _id_pointers(context, builder, cells_type, args[2], args[3], RUN)
         rows = _id_rows(builder, pointers)
 
@@ -789,30 +838,9 @@ def _scatter_run_cells(typingctx, w, slot, cells, cell, flat):  # noqa: ANN001, 
 
         def add_corner(e: int, a: int) -> None:
             index = builder.add(args[1], i64((R_X + 3 * a) * BLOCK + e))
-            values = []
-            for i in range(3):
-                at = builder.gep(scratch, [builder.add(index, i64(i * BLOCK))])
-                value = builder.load(at)
-                values.append(value if element == ir.DoubleType() else
-                              builder.fpext(value, ir.DoubleType()))  # fmt: skip
-            node = offset(e, a)
-            pair = ir.Constant(ir.VectorType(ir.DoubleType(), 2), ir.Undefined)
-            pair = builder.insert_element(pair, values[0], i32(0))
-            pair = builder.insert_element(pair, values[1], i32(1))
-            _add_span(builder, data, node, pair)
-            z_at = builder.gep(data, [builder.add(node, i64(2))])
-            builder.store(builder.fadd(builder.load(z_at, align=8), values[2]), z_at, align=8)
+            _add_corner_force(builder, scratch, element, index, data, offset(e, a))
 
-        # each pair along a line: corner ids rising by one from cell to cell, the pair's second
-        # corner one on from its first (integer vector compares, reduced once)
-        pair_of, one_on = [0] * 8, [0] * 8
-        for a, b in AXIS_PAIRS:
-            pair_of[a] = pair_of[b] = a
-            one_on[b] = 1
-        id_type = rows[0].type.element
-        base = builder.add(builder.shuffle_vector(rows[0], rows[0], shuffle_mask(pair_of)),
-                           ir.Constant(rows[0].type, [id_type(k) for k in one_on]))  # fmt: skip
-        every_run = builder.icmp_unsigned("==", _rising(builder, rows, base), ir.IntType(8)(255))
+        every_run = _pairs_along_lines(builder, rows)
         zero = ir.Constant(ir.VectorType(ir.DoubleType(), 3 * RUN), None)
         low = shuffle_mask(list(range(3 * RUN)) + [3 * RUN] * 3)
         high = shuffle_mask([3 * RUN] * 3 + list(range(3 * RUN)))
