@@ -706,6 +706,12 @@ def scatter_outputs(
         cell_dt[cell] = w[_unsigned_at(R_DT, slot)]
 
 
+def _add_span(builder: ir.IRBuilder, data: ir.Value, offset: ir.Value, values: ir.Value) -> None:
+    """LLVM IR: ``data[offset + j] += values[j]`` for each element j of the vector ``values``."""
+    target = builder.bitcast(builder.gep(data, [offset]), values.type.as_pointer())
+    builder.store(builder.fadd(builder.load(target, align=8), values), target, align=8)
+
+
 @intrinsic
 def _add_pair(typingctx, flat, offset, first, second):  # noqa: ANN001, ANN202
     """``flat[offset] += first`` and ``flat[offset + 1] += second`` (a float64 array; the values
@@ -721,14 +727,12 @@ def _add_pair(typingctx, flat, offset, first, second):  # noqa: ANN001, ANN202
 
     def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
         data = context.make_array(signature.args[0])(context, builder, value=args[0]).data
-        pair = ir.VectorType(ir.DoubleType(), 2)
-        target = builder.bitcast(builder.gep(data, [args[1]]), pair.as_pointer())
         values = ir.Constant(ir.VectorType(args[2].type, 2), ir.Undefined)
         values = builder.insert_element(values, args[2], ir.Constant(ir.IntType(32), 0))
         values = builder.insert_element(values, args[3], ir.Constant(ir.IntType(32), 1))
         if args[2].type != ir.DoubleType():
-            values = builder.fpext(values, pair)
-        builder.store(builder.fadd(builder.load(target, align=8), values), target, align=8)
+            values = builder.fpext(values, ir.VectorType(ir.DoubleType(), 2))
+        _add_span(builder, data, args[1], values)
         return context.get_dummy_value()
 
     return types.none(flat, offset, first, second), codegen
@@ -757,12 +761,6 @@ def _interleaved_forces(
     z = builder.shuffle_vector(rows[2], rows[2], shuffle_mask(list(range(RUN)) * 2))
     return builder.shuffle_vector(xy, z, shuffle_mask(
         [j for k in range(RUN) for j in (2 * k, 2 * k + 1, 2 * RUN + k)]))  # fmt: skip
-
-
-def _add_span(builder: ir.IRBuilder, data: ir.Value, offset: ir.Value, values: ir.Value) -> None:
-    """LLVM IR: ``data[offset + j] += values[j]`` for each element j of the vector ``values``."""
-    target = builder.bitcast(builder.gep(data, [offset]), values.type.as_pointer())
-    builder.store(builder.fadd(builder.load(target, align=8), values), target, align=8)
 
 
 def _add_corner_force(

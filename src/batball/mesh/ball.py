@@ -66,7 +66,8 @@ def _shell_keys(divisions: int, axis: int, sign: int) -> np.ndarray:
 def _merge_blocks(
     key_blocks: list[np.ndarray],
 ) -> tuple[np.ndarray, np.ndarray, list[np.ndarray]]:
-    """Merge structured blocks of keys into unique keys and per-block cells.
+    """Merge structured blocks of keys into unique keys and per-block cells, each block's cells
+    with axis 0 fastest: a run of ni cells is one line along the block's first axis.
 
     Returns:
         ``(keys, cells, block_cell_ids)``: unique keys (n_points, 4), cells (n_cells, 8) int64,
@@ -79,7 +80,8 @@ def _merge_blocks(
     for block in key_blocks:  # seven blocks, not a loop over elements
         n_block = block.shape[0] * block.shape[1] * block.shape[2]
         ids = inverse[node_start : node_start + n_block].reshape(block.shape[:3])
-        cells = _hex_cells(ids)
+        shape = (block.shape[0] - 1, block.shape[1] - 1, block.shape[2] - 1, 8)
+        cells = _hex_cells(ids).reshape(shape).transpose(2, 1, 0, 3).reshape(-1, 8)
         cell_blocks.append(cells)
         block_cell_ids.append(np.arange(cell_start, cell_start + cells.shape[0]))
         node_start += n_block
@@ -144,14 +146,6 @@ def _along_x(block: np.ndarray, divisions: int) -> np.ndarray:
     if even != (sign > 0):  # one reflection so far: a second keeps the volumes positive
         turned = turned[:, :, ::-1]
     return turned
-
-
-def _in_lines(cells: np.ndarray, divisions: int) -> np.ndarray:
-    """The cells of the seven blocks (as :func:`_merge_blocks` gives them, axis 2 fastest)
-    reordered with axis 0 fastest: each run of ``divisions`` cells is one line in x."""
-    n = divisions
-    blocks = cells.reshape(7, n, n, n, 8)
-    return np.ascontiguousarray(blocks.transpose(0, 3, 2, 1, 4)).reshape(-1, 8)
 
 
 def _number_nodes(
@@ -240,9 +234,7 @@ def make_ball_mesh(radius: float, *, divisions: int = 12) -> Mesh:
         raise ValueError(f"radius must be > 0 m, got {radius}")
     blocks = [_core_keys(divisions)]
     blocks += [_shell_keys(divisions, axis, sign) for axis in range(3) for sign in (1, -1)]
-    keys, cells, _ = _merge_blocks([_along_x(block, divisions) for block in blocks])
-    cells = _in_lines(cells, divisions)
-    block_cells = np.arange(len(cells)).reshape(7, -1)
+    keys, cells, block_cell_ids = _merge_blocks([_along_x(block, divisions) for block in blocks])
     points = _positions(keys, divisions, radius)
     # whole lines in slabs of their centroids in key space (integer sums of q over the line's
     # corners: the same order on the sphere, as q rises with x, y and z in every block)
@@ -250,7 +242,7 @@ def make_ball_mesh(radius: float, *, divisions: int = 12) -> Mesh:
     lines = _slab_order(line_sums, 2 * divisions)
     order = (lines[:, None] * divisions + np.arange(divisions)).ravel()
     rank = _inverse(order)
-    cells, block_cell_ids = cells[order], [np.sort(rank[ids]) for ids in block_cells]
+    cells, block_cell_ids = cells[order], [np.sort(rank[ids]) for ids in block_cell_ids]
     node_order, cells = _number_nodes(keys, cells, divisions)
     keys, points = keys[node_order], points[node_order]
     point_sets = {"surface": np.nonzero(keys[:, 0] == divisions)[0]}
