@@ -156,12 +156,13 @@ def test_the_impact_update_sums_the_slots_and_steps_by_the_formula(threads, damp
         np.testing.assert_array_equal(a, b)  # not even the sums depend on the threads
 
 
-@pytest.mark.parametrize("n", [1, 300, 600])
+@pytest.mark.parametrize("n", [1, 13, 300, 600])
 def test_the_impact_update_with_fewer_sum_blocks_than_slots(threads, n: int) -> None:  # noqa: ANN001
     """assemble_and_update gives each slot a run of whole SUM_BLOCK-node blocks; with fewer
     blocks than slots (a coarse ball on several threads) some runs are empty. Undamped: the step
-    is v + h f / m (to 1e-14), the slots are cleared, the kinetic energy is NumPy's to 1e-12,
-    and the result is the same bits on any thread count."""
+    is v + h f / m (to 1e-14), the slots are cleared, the kinetic energy and momentum are
+    NumPy's to 1e-12 (each block's sums are in lanes of 8 nodes; 13 and 300 nodes leave a
+    block a part-filled last lane), and the result is the same bits on any thread count."""
     ranges = np.array([[0, max(1, n // 2)], [n // 3, n], [0, n]])
     slots, mass, x0, v0 = slot_problem(np.random.default_rng(9), ranges, n)
     half = 0.5 * (DT_OLD + DT_NEW)
@@ -175,6 +176,7 @@ def test_the_impact_update_with_fewer_sum_blocks_than_slots(threads, n: int) -> 
         assert not work.any()
         np.testing.assert_allclose(velocities, v, rtol=1e-14, atol=1e-14)
         assert sums[0] == pytest.approx(0.5 * (mass * (velocities**2).sum(1)).sum(), rel=1e-12)
+        np.testing.assert_allclose(sums[3:], (mass[:, None] * velocities).sum(0), rtol=1e-12)
         results.append((points, velocities, sums))
     for a, b in zip(results[0], results[-1], strict=True):
         np.testing.assert_array_equal(a, b)
