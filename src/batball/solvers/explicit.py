@@ -474,6 +474,8 @@ class ExplicitSolver:
                 f"element {e}"
             )
         if status == kern.FAIL_NON_FINITE:
+            if np.isnan(w.cell_dt[e]):
+                raise SimulationError(f"element {e}'s stable time step is NaN at {when}")
             raise SimulationError(f"non-finite kinetic energy or energy balance at {when}")
         balance = row[3 + 3 * len(self.model.contacts) + len(ENERGY_COLUMNS)]
         external = abs(s.energies[kern.CONTACT_ENERGY])

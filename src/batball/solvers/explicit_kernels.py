@@ -19,7 +19,7 @@ from numba.extending import intrinsic
 
 from batball.contact.rigid import add_rigid_contact_forces
 from batball.elements.hex8 import slot_cells
-from batball.elements.vector_math import shuffle_mask
+from batball.elements.vector_math import bits_float, shuffle_mask
 from batball.numerics import FASTMATH
 
 #: :func:`finish_cycle` outcomes: go on, or stop (separation), or fail (negative).
@@ -409,23 +409,60 @@ def lumped_masses(cells: np.ndarray, cell_mass: np.ndarray, n_points: int) -> np
     return mass
 
 
+#: The bits of +infinity as an int64: a float64 whose bits (as an int64) are larger is a NaN.
+_INFINITY_BITS = np.int64(0x7FF0000000000000)
+
+
+@nb.njit(inline="always")
+def _first_at(bits: np.ndarray, value: np.int64) -> int:
+    """The first index of ``value`` in ``bits`` (which holds it)."""
+    e = 0
+    while bits[e] != value:
+        e += 1
+    return e
+
+
+@nb.njit(inline="always")
+def _first_nan(values: np.ndarray) -> int:
+    """The first index of a NaN in ``values`` (which holds one)."""
+    e = 0
+    while values[e] == values[e]:
+        e += 1
+    return e
+
+
 @nb.njit(inline="always")
 def next_step(
     cell_dt: np.ndarray, clock: np.ndarray, counters: np.ndarray, limits: np.ndarray
 ) -> float:
     """TSSFAC times the smallest element step [s], or a FAIL_* code (negative) when an element
-    has no positive volume or the step fell below MIN_STEP_RATIO of the first one."""
-    smallest = 0
-    for e in range(cell_dt.shape[0]):
-        if not cell_dt[e] >= cell_dt[smallest]:
-            smallest = e
-    counters[ELEMENT] = smallest
-    if not cell_dt[smallest] > 0.0:
+    has no positive volume (FAIL_INVERTED), a NaN step (FAIL_NON_FINITE), or the step fell
+    below MIN_STEP_RATIO of the first one (FAIL_STEP_COLLAPSE); ``counters[ELEMENT]`` is then
+    the element (the first with the smallest step, or the first NaN).
+
+    The steps are compared as their bits (int64): for floats of positive sign that is their
+    order, and integer minima and maxima vectorise where floating-point ones would need
+    fast-math flags that would also drop NaN checks. A step of 0 or of negative sign is the
+    smallest; a NaN of positive sign is larger than infinity, so the largest tells it."""
+    bits = cell_dt.view(np.int64)
+    lowest = bits[0]
+    highest = bits[0]
+    for e in range(1, bits.shape[0]):
+        b = bits[e]
+        lowest = min(lowest, b)
+        highest = max(highest, b)
+    smallest = bits_float(np.uint64(lowest))
+    if highest > _INFINITY_BITS or smallest != smallest:
+        counters[ELEMENT] = _first_nan(cell_dt)
+        return float(FAIL_NON_FINITE)
+    if not smallest > 0.0:
+        counters[ELEMENT] = _first_at(bits, lowest)
         return float(FAIL_INVERTED)
-    dt_new = limits[TSSFAC] * cell_dt[smallest]
+    dt_new = limits[TSSFAC] * smallest
     if clock[FIRST_DT] == 0.0:
         clock[FIRST_DT] = dt_new
     elif dt_new < limits[MIN_STEP_RATIO] * clock[FIRST_DT]:
+        counters[ELEMENT] = _first_at(bits, lowest)
         clock[DT] = dt_new
         return float(FAIL_STEP_COLLAPSE)
     return dt_new
@@ -511,8 +548,9 @@ def finish_cycle(
             penetration into each target (n_targets) [m].
 
     Returns:
-        CYCLE_OK, CYCLE_SEPARATED or a FAIL_* code (the step is then not taken, or for
-        FAIL_NON_FINITE / FAIL_ENERGY taken and recorded; ``counters[ELEMENT]`` names the element).
+        CYCLE_OK, CYCLE_SEPARATED or a FAIL_* code: from the element steps (:func:`next_step`,
+        which names the element in ``counters[ELEMENT]``) the step is not taken; from the
+        energies (FAIL_NON_FINITE, FAIL_ENERGY) it is taken and recorded.
     """
     slot_nodes, mass, contact_forces, sums, contact_nodes, contact_slots, scratch = nodes
     reaction, penetration = contacts[5], contacts[6]
