@@ -22,14 +22,19 @@ from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-from batball.elements.hex8_geometry import Vector, modal_sums, modes_of_components
+from batball.elements.hex8_geometry import (
+    Vector,
+    modal_largest_face_area,
+    modal_sums,
+    modes_of_components,
+)
 from batball.elements.hex8_kinematics import (
     Modes,
     Voigt,
     advance_prony_term,
     element_kinematics,
 )
-from batball.elements.hex8_response import element_response
+from batball.elements.hex8_response import element_response, stable_step
 from batball.elements.vector_math import like, shuffle_mask, transposed_lanes
 from batball.errors import SpecError
 from batball.materials.viscoelastic import viscoelastic_step_factors
@@ -368,10 +373,12 @@ def _make_element_block(fb: bool, stiff: bool, n_terms: int = 1):
             if prony:
                 h_all, prony_work = advance_terms(w, history, e, q, de, h)
                 dev_work += prony_work
-            p, hg, forces, step, work = element_response(
+            p, hg, forces, c, work = element_response(
                 x, v, g, s_inf, h_all, hg_old, (vol, v0, trd, vmid, dev_work, p_old),
                 _load_factors(w, e, M_RHO), controls, fb, stiff,
             )  # fmt: skip
+            area = modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])
+            step = stable_step(area, vol, trd, c, controls[1], controls[2])
             _store_element(w, history, e, s_inf, h, p, forces, vol, step)
             if stiff:
                 _store_hourglass(history, e, hg)

@@ -55,7 +55,7 @@ from batball.elements.hex8_kinematics import (
     midstep_velocity_gradient,
     velocity_gradient,
 )
-from batball.elements.hex8_response import element_response
+from batball.elements.hex8_response import element_response, stable_step
 from batball.materials.foam import P_BETA1, P_DAMP, P_ED, P_MODULUS, P_RATE_FILTER
 from batball.materials.foam_update import (
     EIGEN_LANES,
@@ -393,7 +393,8 @@ def foam_response(n, keep, saved, response, rho0, damp, controls, step_factors):
         g1, g2, g3, g4, g5, g6, vol = modal_volume_gradient(x[0], x[1], x[2], x[3], x[4], x[5])
         rho = rho0 * v0 / vol if vol > 0.0 else rho0
         c = np.sqrt(modulus / rho)
-        length = vol / modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])  # as dt's
+        area = modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])
+        length = vol / area  # as dt's
         damping = damp * rho * c * abs(length)
         total = _axpy6(_axpy6(_lane_six(response, R_SIGMA, lane), rate_stress, 1.0), dd, damping)
         dev_work = half_stress_work(_lane_six(saved, H_STRESS, lane), total, de)
@@ -404,11 +405,12 @@ def foam_response(n, keep, saved, response, rho0, damp, controls, step_factors):
             _lane_vector(response, R_HG_OLD + 9, lane),
         )
         # 5: the element response on x^n
-        _, hg, forces, step, work = element_response(
+        _, hg, forces, wave_speed, work = element_response(
             x, v, (g1, g2, g3, g4, g5, g6), total, _ZERO6, hg_old,
             (vol, v0, trd, vmid, dev_work, 0.0), (rho0, 0.0, modulus),
             (dt, q1, q2, hg_coefficient), fb, stiff,
         )  # fmt: skip
+        step = stable_step(area, vol, trd, wave_speed, q1, q2)
         _store_lane_six(response, R_RATE, lane, rate_stress)
         _store_lane_six(response, R_TOTAL, lane, total)
         _store_lane_vector(response, R_HG, lane, hg[0])

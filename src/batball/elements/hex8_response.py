@@ -13,7 +13,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from batball.elements.hex8_geometry import dot, modal_largest_face_area, nodal_sums
+from batball.elements.hex8_geometry import dot, nodal_sums
 from batball.elements.hex8_kinematics import Modes, Tensor, Voigt, velocity_gradient
 from batball.elements.vector_math import cbrt, like, log
 from batball.numerics import FASTMATH
@@ -176,12 +176,13 @@ def nodal_forces(sigma: Tensor, g: Modes, hg: Modes, i: int, ok: bool) -> tuple[
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
-def stable_step(x: Modes, vol: float, trd: float, c: float, q1: float, q2: float) -> float:
+def stable_step(area: float, vol: float, trd: float, c: float, q1: float, q2: float) -> float:
     """LS-DYNA solid step L_e / (Q + sqrt(Q^2 + c^2)), L_e = V / A_max [s]; 0 unless V > 0.
 
-    Q = Q2 c + Q1 L_e |tr D| under compression (LS-DYNA Theory Manual, time step control).
+    Q = Q2 c + Q1 L_e |tr D| under compression (LS-DYNA Theory Manual, time step control);
+    ``area`` is A_max (:func:`batball.elements.hex8_geometry.modal_largest_face_area`).
     """
-    le = vol / modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])
+    le = vol / area
     zero = like(vol, 0.0)
     qv = q2 * c + q1 * le * abs(trd) if trd < zero else zero
     step = le / (qv + np.sqrt(qv * qv + c * c))
@@ -231,9 +232,9 @@ def element_response(
 
     Returns:
         The pressure and hourglass state to store, the nodal forces (three 8-tuples, x, y, z
-        components) [N], the stable step [s] and the (internal, hourglass, bulk viscosity)
-        work [J]; an element without positive volume keeps p and Q and gets no forces, step 0
-        and no work.
+        components) [N], the wave speed c [m/s] (for :func:`stable_step`, which the caller
+        takes with the largest face area) and the (internal, hourglass, bulk viscosity) work
+        [J]; an element without positive volume keeps p and Q and gets no forces and no work.
     """
     vol, v0, trd, vmid, dev_work, p_old = state
     dt, q1, q2, hg_coefficient = controls
@@ -255,5 +256,4 @@ def element_response(
     bulk = -bulk_q * trd * dt * vmid
     work = (internal if ok else zero, hg_work if ok else zero, bulk if ok else zero)
     hg_kept = _keep_if(hg, hg_old, ok and stiff)  # only the stiffness form has a state
-    step = stable_step(x, vol, trd, c, q1, q2)
-    return p if ok else p_old, hg_kept, forces, step, work
+    return p if ok else p_old, hg_kept, forces, c, work
