@@ -137,7 +137,7 @@ def _advance_all(element_block, mesh, material, history, outputs, controls):
 # Numba's cache is keyed on this file alone: after editing the modules it inlines, change
 # INLINED below, so that a cache compiled from the old code is not loaded (a checkout leaves
 # this file's time stamp as it was unless its text changes).
-INLINED = "hex8_block: the stable step taken after element_response, from its wave speed"
+INLINED = "hex8_block: the deviatoric stresses stored as soon as they are updated"
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)

@@ -280,11 +280,9 @@ def _store_nodal(w, e, i, f):
 
 
 @nb.njit(inline="always", fastmath=FASTMATH)
-def _store_element(w, history, e, s_inf, h, pressure, forces, vol, step):
-    """Write the stresses and pressure (to the history), nodal forces (three 8-tuples), volume
-    and stable step."""
-    store6(history, H_S, e, s_inf)
-    store6(history, H_H, e, h)
+def _store_element(w, history, e, pressure, forces, vol, step):
+    """Write the pressure (to the history), nodal forces (three 8-tuples), volume and stable
+    step."""
     history[at(H_P, e)] = pressure
     _store_nodal(w, e, 0, forces[0])
     _store_nodal(w, e, 1, forces[1])
@@ -369,6 +367,8 @@ def _make_element_block(fb: bool, stiff: bool, n_terms: int = 1):
                 x, v, load6(history, H_S, e), load6(history, H_H, e),
                 _load_factors(w, e, M_TWO_G_INF), controls[0],
             )  # fmt: skip
+            store6(history, H_S, e, s_inf)
+            store6(history, H_H, e, h)
             h_all = h
             if prony:
                 h_all, prony_work = advance_terms(w, history, e, q, de, h)
@@ -379,7 +379,7 @@ def _make_element_block(fb: bool, stiff: bool, n_terms: int = 1):
             )  # fmt: skip
             area = modal_largest_face_area(x[0], x[1], x[2], x[3], x[4], x[5])
             step = stable_step(area, vol, trd, c, controls[1], controls[2])
-            _store_element(w, history, e, s_inf, h, p, forces, vol, step)
+            _store_element(w, history, e, p, forces, vol, step)
             if stiff:
                 _store_hourglass(history, e, hg)
             w[at(R_WORK, e)] = work[0]
