@@ -226,10 +226,10 @@ def update_run(
     (on that Xeon, two threads with slots that overlap only in a few nodes took 28 us where the
     check at every node took 39 us, one thread with one slot 47-51 us), through the same
     compiled loop as a single slot, on a view of that slot (:func:`_step_nodes`; indexed from
-    the slot's offset in the whole array, that loop took 26.5 us against 15 on a Zen 5 core). Then each block's sums
-    from the new velocities, as vector partial sums (:func:`motion_sums`; as plain sums in
-    node order they took half the update, 12 of 25 us a cycle on the 12,096-hex ball, one
-    thread of an AMD Zen 5 core).
+    the slot's offset in the whole array, that loop took 26.5 us against 15 on a Zen 5 core).
+    Then each block's sums from the new velocities, as vector partial sums
+    (:func:`motion_sums`; as plain sums in node order they took half the update, 12 of 25 us
+    a cycle on the 12,096-hex ball, one thread of an AMD Zen 5 core).
 
     Compiled with NumPy's error model: Python's tests every division (half / m) for zero, a
     branch that kept LLVM from vectorising the node loops (the masses are positive,
