@@ -35,7 +35,7 @@ from batball.elements.hex8_kinematics import (
     element_kinematics,
 )
 from batball.elements.hex8_response import element_response, stable_step
-from batball.elements.vector_math import like, shuffle_mask, transposed_lanes
+from batball.elements.vector_math import component_rows, like, shuffle_mask, transposed_lanes
 from batball.errors import SpecError
 from batball.materials.viscoelastic import viscoelastic_step_factors
 from batball.numerics import FASTMATH, wide_vectors
@@ -474,15 +474,6 @@ def _node_offset(builder: ir.IRBuilder, pointer: ir.Value, a: int) -> ir.Value:
     return builder.mul(ir.IntType(64)(3), builder.sext(node, ir.IntType(64)))
 
 
-def _run_rows(builder: ir.IRBuilder, data: ir.Value, first: ir.Value) -> list[ir.Value]:
-    """LLVM IR: the 3 component rows (<RUN x double> each) of RUN consecutive nodes from flat
-    offset ``first``: one load of 3 RUN doubles, split by shuffles."""
-    span = ir.VectorType(ir.DoubleType(), 3 * RUN)
-    values = builder.load(builder.bitcast(builder.gep(data, [first]), span.as_pointer()), align=8)
-    return [builder.shuffle_vector(values, values, shuffle_mask(list(range(i, 3 * RUN, 3))))
-            for i in range(3)]  # fmt: skip
-
-
 def _node_rows(
     builder: ir.IRBuilder, arrays: list[ir.Value], offsets: list[ir.Value], flag: ir.Value
 ) -> list[list[ir.Value]]:
@@ -494,7 +485,7 @@ def _node_rows(
         packed = builder.insert_value(packed, offset, k)
     with builder.if_else(flag) as (run, scattered):
         with run:
-            from_run = [_run_rows(builder, data, offsets[0]) for data in arrays]
+            from_run = [component_rows(builder, data, offsets[0], RUN) for data in arrays]
             run_block = builder.block
         with scattered:
             from_nodes = [transposed_lanes(builder, data, packed, 3) for data in arrays]
@@ -586,7 +577,7 @@ def _gather_cell_rows(typingctx, w, index_x, index_v, xs, vs, cells, cell):  # n
         runs = [_rising(builder, ids[h : h + RUN], ids[h]) for h in halves]
 
         def spans(a: int) -> list[list[list[ir.Value]]]:
-            return [[_run_rows(builder, data, _node_offset(builder, pointers[h], a))
+            return [[component_rows(builder, data, _node_offset(builder, pointers[h], a), RUN)
                      for data in arrays] for h in halves]  # fmt: skip
 
         def corner_by_corner(a: int) -> list[list[list[ir.Value]]]:

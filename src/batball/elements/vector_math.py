@@ -178,6 +178,18 @@ def shuffle_mask(indices: list[int]) -> ir.Constant:
     return ir.Constant(ir.VectorType(_I32, len(indices)), [_I32(i) for i in indices])
 
 
+def component_rows(
+    builder: ir.IRBuilder, data: ir.Value, first: ir.Value, count: int
+) -> list[ir.Value]:
+    """LLVM IR: the 3 component rows (<count x double> each) of ``count`` consecutive 3-vectors
+    from flat offset ``first`` of ``data`` (a double pointer): one load of 3 count doubles,
+    split by shuffles."""
+    span = ir.VectorType(ir.DoubleType(), 3 * count)
+    values = builder.load(builder.bitcast(builder.gep(data, [first]), span.as_pointer()), align=8)
+    return [builder.shuffle_vector(values, values, shuffle_mask(list(range(i, 3 * count, 3))))
+            for i in range(3)]  # fmt: skip
+
+
 def _joined_pairs(builder: ir.IRBuilder, bases: list[ir.Value], at: int) -> ir.Value:
     """The pairs of doubles at ``base + at`` of each base, concatenated in order into one
     <2 L x double> (a tree of shuffles, which LLVM lowers to lane inserts)."""

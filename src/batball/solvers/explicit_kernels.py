@@ -19,7 +19,7 @@ from numba.extending import intrinsic
 
 from batball.contact.rigid import add_rigid_contact_forces
 from batball.elements.hex8 import slot_cells
-from batball.elements.vector_math import bits_float, shuffle_mask
+from batball.elements.vector_math import bits_float, component_rows
 from batball.numerics import FASTMATH
 
 #: :func:`finish_cycle` outcomes: go on, or stop (separation), or fail (negative).
@@ -276,21 +276,10 @@ def update_run(
 
 def _motion_lanes(builder: ir.IRBuilder, mass: ir.Value, v: ir.Value, n0: ir.Value) -> list:
     """LLVM IR: the kinetic energy 0.5 m |v|^2 and momentum m v_i (i = 0, 1, 2) of the LANES
-    nodes from node ``n0`` (<LANES x double> each): one load of the masses and three of the
-    velocities (3 LANES doubles), split into components by shuffles."""
+    nodes from node ``n0`` (<LANES x double> each)."""
     row = ir.VectorType(ir.DoubleType(), LANES)
-
-    def load(data: ir.Value, at: ir.Value) -> ir.Value:
-        return builder.load(builder.bitcast(builder.gep(data, [at]), row.as_pointer()), align=8)
-
-    m = load(mass, n0)
-    start = builder.mul(n0, ir.IntType(64)(3))
-    parts = [load(v, builder.add(start, ir.IntType(64)(LANES * p))) for p in range(3)]
-    first_two = builder.shuffle_vector(parts[0], parts[1], shuffle_mask(list(range(2 * LANES))))
-    third = builder.shuffle_vector(parts[2], parts[2], shuffle_mask(list(range(LANES)) * 2))
-    w = [builder.shuffle_vector(first_two, third,
-                                shuffle_mask([3 * j + i for j in range(LANES)]))
-         for i in range(3)]  # fmt: skip
+    m = builder.load(builder.bitcast(builder.gep(mass, [n0]), row.as_pointer()), align=8)
+    w = component_rows(builder, v, builder.mul(n0, ir.IntType(64)(3)), LANES)
     squares = builder.fadd(builder.fadd(builder.fmul(w[0], w[0]), builder.fmul(w[1], w[1])),
                            builder.fmul(w[2], w[2]))  # fmt: skip
     half_m = builder.fmul(ir.Constant(row, [0.5] * LANES), m)
