@@ -35,6 +35,10 @@ TARGET_CYLINDER = 1
 #: Length of a packed target's parameter row (see ``RigidPlane.packed``).
 N_TARGET_PARAMS = 14
 
+#: A point whose squared distance from a cylinder's axis exceeds this times R^2 is outside it
+#: whatever the rounding of the root (a margin far above it), so its depth is not computed.
+OUTSIDE = 1.0 + 1e-9
+
 
 @dataclass(frozen=True)
 class RigidPlane:
@@ -177,7 +181,10 @@ def _penetration(
     r2 = d2 - axial * params[5]
     if r0 * params[6] + r1 * params[7] + r2 * params[8] < 0.0:
         return -1.0
-    r = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+    squared = r0 * r0 + r1 * r1 + r2 * r2
+    if squared > OUTSIDE * params[9] * params[9]:
+        return -1.0  # r > R for certain: the root and the normal only for nodes that may touch
+    r = np.sqrt(squared)
     if r == 0.0:
         return -1.0
     normal[0] = r0 / r
