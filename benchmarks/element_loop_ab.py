@@ -9,6 +9,11 @@ gathered once. Each call first copies the block's scratch and history row back i
 overwrites them), so the script also times that copy alone and prints each loop's time less
 it. Before timing it checks that every variant gives the present loop's bits on one block.
 
+The loop is compiled here inside the timing loop, not inside the kernel, and LLVM may allocate
+its registers differently in the two: confirm a gain on the kernel (``bench_hex8_kernel.py``,
+or ``kernel_llvm_options_ab.py`` for compiler options), as a scheduler that made this loop
+10-14 % faster made the kernel slower (benchmarks/RESULTS.md, 2026-12-07).
+
 A variant is ``path/to/file.py:name``: a Numba function with ``element_block``'s signature
 ``(w, history, n, dt, q1, q2, hg_coefficient) -> (internal, hourglass, bulk)``, typically a
 copy of ``hex8_block._make_element_block``'s loop with its statements reordered. Usage:
