@@ -29,8 +29,6 @@ against a plain per-element implementation of the steps above.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numba as nb
 import numpy as np
 
@@ -241,8 +239,8 @@ def compute_hex8_forces(
 
     Args:
         points: (n_points, 3) coordinates x^n [m]; velocities: (n_points, 3) v^(n-1/2) [m/s].
-        cells: (n_cells, 8) node ids (:func:`kernel_ids`); dt: the step dt^(n-1/2) that
-            led to x^n [s].
+        cells: (n_cells, 8) node ids (:func:`kernel_ids`); dt: the step dt^(n-1/2) [s] that
+            led to x^n.
         cell_material: (n_cells,) (:func:`kernel_ids`) row of ``material_constants``
             (n_materials, 2 N + 2: K, G0, G_inf [Pa], beta_1 [1/s], then (G_i [Pa],
             beta_i [1/s]) for Prony terms i = 2..N; N = 1 is MAT_006's K, G0, G_inf, beta) and
@@ -265,32 +263,6 @@ def compute_hex8_forces(
         energy_increments: (n_slots, 3) out: internal, hourglass, bulk-viscosity work [J] of
             each slot.
     """
-    bind_hex8_forces(
-        points, velocities, cells, cell_material, material_constants, densities, history,
-        hg_type, hg_coefficient, q1, q2, nodal_forces, cell_volume, cell_dt, energy_increments,
-    )(dt)  # fmt: skip
-
-
-def bind_hex8_forces(
-    points: np.ndarray,
-    velocities: np.ndarray,
-    cells: np.ndarray,
-    cell_material: np.ndarray,
-    material_constants: np.ndarray,
-    densities: np.ndarray,
-    history: np.ndarray,
-    hg_type: int,
-    hg_coefficient: float,
-    q1: float,
-    q2: float,
-    nodal_forces: np.ndarray,
-    cell_volume: np.ndarray,
-    cell_dt: np.ndarray,
-    energy_increments: np.ndarray,
-) -> Callable[[float], None]:
-    """:func:`compute_hex8_forces` on these arrays, checked once: a function of the step dt
-    [s] alone, for a solver that calls the kernel every cycle on the same arrays (updated in
-    place). The arguments are those of :func:`compute_hex8_forces`."""
     n_terms = history_terms(history)
     if material_constants.shape[1] != 2 * n_terms + 2:
         raise ValueError(
@@ -307,13 +279,10 @@ def bind_hex8_forces(
             f"nodal_forces has shape {nodal_forces.shape}; expected (n_slots, n_points, 3) with "
             f"n_slots = {len(energy_increments)}, the rows of energy_increments"
         )
-    kernel = _KERNELS[hg_type, n_terms]
-    mesh = (points, velocities, kernel_ids(cells))
-    material = (kernel_ids(cell_material), material_constants, densities)
-    outputs = (nodal_forces, cell_volume, cell_dt, energy_increments)
-    coefficients = (float(hg_coefficient), float(q1), float(q2))
-
-    def forces(dt: float) -> None:
-        kernel(mesh, material, history, outputs, (float(dt), *coefficients))
-
-    return forces
+    _KERNELS[hg_type, n_terms](
+        (points, velocities, kernel_ids(cells)),
+        (kernel_ids(cell_material), material_constants, densities),
+        history,
+        (nodal_forces, cell_volume, cell_dt, energy_increments),
+        (float(dt), float(hg_coefficient), float(q1), float(q2)),
+    )

@@ -21,7 +21,7 @@ import numba as nb
 import numpy as np
 
 from batball.contact.rigid import N_TARGET_PARAMS, RigidCylinder, RigidPlane
-from batball.elements.hex8 import HOURGLASS_TYPES, bind_hex8_forces, kernel_ids
+from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces, kernel_ids
 from batball.elements.hex8_block import PRECISIONS, check_precision, constants_terms, pack_history
 from batball.elements.hex8_foam import (
     N_FOAM_HISTORY,
@@ -390,28 +390,51 @@ class ExplicitSolver:
         self.limits = limits
         self.scratch_row = np.zeros(self.work.row_width)
         self.separated = False  # set by each cycle: contact ended long enough ago
-        s, w, m, c = self.state, self.work, model, controls.hourglass
-        # the arrays of every cycle's two compiled calls, gathered once (updated in place)
-        self.hex_forces = None if m.foam is not None else bind_hex8_forces(
-            s.points, s.velocities, w.cells, w.cell_material, m.material_constants, m.densities,
-            s.history, c.type, c.coefficient, w.q1, w.q2, w.nodal_forces, w.cell_volume,
-            w.cell_dt, w.energy_increments,
-        )  # fmt: skip
-        self.finish_arguments = (w.energy_increments, w.cell_dt, w.nodal_forces, w.nodes,
-                                 w.contacts, s.points, s.velocities, s.clock, s.counters,
-                                 s.energies, self.limits)  # fmt: skip
 
     def element_forces(self) -> None:
         """Stress update and element nodal forces from x^n and v^(n-1/2)."""
-        if self.hex_forces is not None:
-            self.hex_forces(self.state.clock[kern.DT])
-            return
         s, w, m, c = self.state, self.work, self.model, self.controls.hourglass
-        foam_element_forces(m, s.points, s.velocities, s.dt, w, s.foam_history, s.hg_state, c)
+        if m.foam is not None:  # a foam body has its own element kernel
+            foam_element_forces(m, s.points, s.velocities, s.dt, w, s.foam_history, s.hg_state, c)
+            return
+        compute_hex8_forces(
+            s.points,
+            s.velocities,
+            w.cells,
+            s.dt,
+            w.cell_material,
+            m.material_constants,
+            m.densities,
+            s.history,
+            c.type,
+            c.coefficient,
+            w.q1,
+            w.q2,
+            w.nodal_forces,
+            w.cell_volume,
+            w.cell_dt,
+            w.energy_increments,
+        )
 
     def finish(self, row: np.ndarray) -> int:
         """Contact, time step, update, checks and the history row (one compiled call)."""
-        return int(kern.finish_cycle(*self.finish_arguments, row))
+        s, w = self.state, self.work
+        return int(
+            kern.finish_cycle(
+                w.energy_increments,
+                w.cell_dt,
+                w.nodal_forces,
+                w.nodes,
+                w.contacts,
+                s.points,
+                s.velocities,
+                s.clock,
+                s.counters,
+                s.energies,
+                self.limits,
+                row,
+            )
+        )
 
     def cycle(self, row: np.ndarray | None = None) -> tuple[float, int]:
         """One explicit cycle; returns (kinetic energy, nodes in contact). Stops on failure."""
