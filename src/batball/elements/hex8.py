@@ -29,6 +29,8 @@ against a plain per-element implementation of the steps above.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numba as nb
 import numpy as np
 
@@ -263,6 +265,33 @@ def compute_hex8_forces(
         energy_increments: (n_slots, 3) out: internal, hourglass, bulk-viscosity work [J] of
             each slot.
     """
+    kernel, arguments, controls = hex8_kernel_call(
+        points, velocities, cells, cell_material, material_constants, densities, history,
+        hg_type, hg_coefficient, q1, q2, nodal_forces, cell_volume, cell_dt, energy_increments,
+    )  # fmt: skip
+    kernel(*arguments, (float(dt), *controls))
+
+
+def hex8_kernel_call(
+    points: np.ndarray,
+    velocities: np.ndarray,
+    cells: np.ndarray,
+    cell_material: np.ndarray,
+    material_constants: np.ndarray,
+    densities: np.ndarray,
+    history: np.ndarray,
+    hg_type: int,
+    hg_coefficient: float,
+    q1: float,
+    q2: float,
+    nodal_forces: np.ndarray,
+    cell_volume: np.ndarray,
+    cell_dt: np.ndarray,
+    energy_increments: np.ndarray,
+) -> tuple[Callable, tuple, tuple]:
+    """The compiled kernel :func:`compute_hex8_forces` calls on these arrays (its arguments but
+    the step), checked: (kernel, arguments, controls), called as ``kernel(*arguments, (dt,
+    *controls))`` with the step dt [s]; a compiled loop over cycles makes the same call."""
     n_terms = history_terms(history)
     if material_constants.shape[1] != 2 * n_terms + 2:
         raise ValueError(
@@ -279,10 +308,10 @@ def compute_hex8_forces(
             f"nodal_forces has shape {nodal_forces.shape}; expected (n_slots, n_points, 3) with "
             f"n_slots = {len(energy_increments)}, the rows of energy_increments"
         )
-    _KERNELS[hg_type, n_terms](
+    arguments = (
         (points, velocities, kernel_ids(cells)),
         (kernel_ids(cell_material), material_constants, densities),
         history,
         (nodal_forces, cell_volume, cell_dt, energy_increments),
-        (float(dt), float(hg_coefficient), float(q1), float(q2)),
     )
+    return _KERNELS[hg_type, n_terms], arguments, (float(hg_coefficient), float(q1), float(q2))

@@ -35,6 +35,7 @@ MAT_006, so the energy balance checks the foam's hysteresis as dissipated intern
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numba as nb
@@ -571,6 +572,35 @@ def compute_foam_forces(
         nodal_forces, cell_volume, cell_dt, energy_increments: outputs, as there (the forces
             are added into the slots of ``nodal_forces``).
     """
+    kernel, arguments, controls = foam_kernel_call(
+        points, velocities, cells, reference, density, volume0, table, history, hg_state,
+        hg_type, hg_coefficient, q1, q2, nodal_forces, cell_volume, cell_dt, energy_increments,
+    )  # fmt: skip
+    kernel(*arguments, (float(dt), *controls))
+
+
+def foam_kernel_call(
+    points: np.ndarray,
+    velocities: np.ndarray,
+    cells: np.ndarray,
+    reference: np.ndarray,
+    density: float,
+    volume0: np.ndarray,
+    table: tuple[np.ndarray, ...],
+    history: np.ndarray,
+    hg_state: np.ndarray,
+    hg_type: int,
+    hg_coefficient: float,
+    q1: float,
+    q2: float,
+    nodal_forces: np.ndarray,
+    cell_volume: np.ndarray,
+    cell_dt: np.ndarray,
+    energy_increments: np.ndarray,
+) -> tuple[Callable, tuple, tuple]:
+    """The compiled kernel :func:`compute_foam_forces` calls on these arrays (its arguments but
+    the step), checked: (kernel, arguments, controls), called as ``kernel(*arguments, (dt,
+    *controls))`` with the step dt [s] (as :func:`batball.elements.hex8.hex8_kernel_call`)."""
     if history.shape != (cells.shape[0], N_HISTORY):
         raise ValueError(f"history has shape {history.shape}; expected ({cells.shape[0]}, 14)")
     if reference.shape != (cells.shape[0], N_REFERENCE):
@@ -579,14 +609,14 @@ def compute_foam_forces(
             f"{N_REFERENCE}) from foam_reference_gradients"
         )
     fb, stiff = hg_type >= 2, hg_type >= 4
-    _foam_forces(
+    arguments = (
         (points, velocities, kernel_ids(cells), reference),
         (float(density), volume0, table),
         (history, hg_state),
         (nodal_forces, cell_volume, cell_dt),
         energy_increments,
-        (float(dt), float(q1), float(q2), float(hg_coefficient), fb, stiff),
     )
+    return _foam_forces, arguments, (float(q1), float(q2), float(hg_coefficient), fb, stiff)
 
 
 #: Columns of a foam body's per-cell history (solver state ``foam_history``).
@@ -606,9 +636,26 @@ def foam_element_forces(
     """The solver's one call into this kernel (``ExplicitSolver.element_forces``): the foam
     body of ``model`` (``model.foam``) with the solver's workspace ``work`` (volume0, the
     reference gradients ``foam_reference``, q1, q2 and the output arrays) and hourglass control."""
-    compute_foam_forces(
-        points, velocities, work.cells, work.foam_reference, dt,
-        float(model.densities[0]), work.volume0, model.foam.arrays(), history, hg_state,
-        hourglass.type, hourglass.coefficient, work.q1, work.q2,
-        work.nodal_forces, work.cell_volume, work.cell_dt, work.energy_increments,
+    kernel, arguments, controls = foam_solver_call(
+        model, points, velocities, work, history, hg_state, hourglass
+    )
+    kernel(*arguments, (float(dt), *controls))
+
+
+def foam_solver_call(
+    model: Any,
+    points: np.ndarray,
+    velocities: np.ndarray,
+    work: Any,
+    history: np.ndarray,
+    hg_state: np.ndarray,
+    hourglass: Any,
+) -> tuple[Callable, tuple, tuple]:
+    """:func:`foam_kernel_call` for the solver's arrays, as :func:`foam_element_forces` takes
+    them."""
+    return foam_kernel_call(
+        points, velocities, work.cells, work.foam_reference, float(model.densities[0]),
+        work.volume0, model.foam.arrays(), history, hg_state, hourglass.type,
+        hourglass.coefficient, work.q1, work.q2, work.nodal_forces, work.cell_volume,
+        work.cell_dt, work.energy_increments,
     )  # fmt: skip

@@ -21,13 +21,13 @@ import numba as nb
 import numpy as np
 
 from batball.contact.rigid import N_TARGET_PARAMS, RigidCylinder, RigidPlane
-from batball.elements.hex8 import HOURGLASS_TYPES, compute_hex8_forces, kernel_ids
+from batball.elements.hex8 import HOURGLASS_TYPES, hex8_kernel_call, kernel_ids
 from batball.elements.hex8_block import PRECISIONS, check_precision, constants_terms, pack_history
 from batball.elements.hex8_foam import (
     N_FOAM_HISTORY,
     N_REFERENCE,
-    foam_element_forces,
     foam_reference_gradients,
+    foam_solver_call,
 )
 from batball.errors import SimulationError, SpecError
 from batball.materials.foam import FoamTable
@@ -43,6 +43,9 @@ from batball.solvers.frames import (
     surface_node_areas,
 )
 from batball.units import IN
+
+#: A run with a progress callback calls it every this many cycles.
+PROGRESS_STEPS = 200
 
 
 @dataclass(frozen=True)
@@ -220,8 +223,10 @@ class ExplicitResult:
         contact_nodes: (n_steps,) nodes in contact.
         penetration: (n_steps, n_contacts) deepest penetration into each target [m].
         frame_times: (n_frames,) [s]; frames: (n_frames, n_points, 3) displacements [m].
-        mass: total mass [kg]; phase_seconds: wall time of the element kernel and of the rest of
-            the cycle [s] (measured around the two compiled calls).
+        mass: total mass [kg]; phase_seconds: wall time [s] of the compiled loops over cycles
+            (``cycles``: element kernel, contact, step, update and records) and of what the run
+            does between them (``frames``: frames, progress); ``ExplicitSolver.cycle`` times its
+            two calls apart instead (``element_forces``, ``rest_of_cycle``).
         frame_data: every field of the frames by name, (n_frames, ...) float32, displacement,
             velocity, contact force and pressure, stress and its invariants, volumetric strain
             (:mod:`batball.solvers.frames`; ``frames`` is its displacement).
@@ -374,7 +379,8 @@ class ExplicitSolver:
         self.controls = controls
         self.work = _Workspace(model, controls)
         self.state = initial_state(model, self.work.volume0, controls.precision)
-        self.phase_seconds = {"element_forces": 0.0, "rest_of_cycle": 0.0}
+        self.phase_seconds = {"element_forces": 0.0, "rest_of_cycle": 0.0, "cycles": 0.0,
+                              "frames": 0.0}  # fmt: skip
         self.kinetic0 = float(0.5 * np.sum(self.work.mass[:, None] * model.initial_velocity**2))
         self.total_mass = float(self.work.mass.sum())
         limits = np.zeros(8)
@@ -391,50 +397,32 @@ class ExplicitSolver:
         self.scratch_row = np.zeros(self.work.row_width)
         self.separated = False  # set by each cycle: contact ended long enough ago
 
-    def element_forces(self) -> None:
-        """Stress update and element nodal forces from x^n and v^(n-1/2)."""
+    def kernel_call(self) -> tuple[Callable, tuple, tuple]:
+        """The element kernel on the state's arrays as they are now: (kernel, arguments,
+        controls) of :func:`batball.elements.hex8.hex8_kernel_call` (or the foam's)."""
         s, w, m, c = self.state, self.work, self.model, self.controls.hourglass
         if m.foam is not None:  # a foam body has its own element kernel
-            foam_element_forces(m, s.points, s.velocities, s.dt, w, s.foam_history, s.hg_state, c)
-            return
-        compute_hex8_forces(
-            s.points,
-            s.velocities,
-            w.cells,
-            s.dt,
-            w.cell_material,
-            m.material_constants,
-            m.densities,
-            s.history,
-            c.type,
-            c.coefficient,
-            w.q1,
-            w.q2,
-            w.nodal_forces,
-            w.cell_volume,
-            w.cell_dt,
-            w.energy_increments,
-        )
+            return foam_solver_call(m, s.points, s.velocities, w, s.foam_history, s.hg_state, c)
+        return hex8_kernel_call(
+            s.points, s.velocities, w.cells, w.cell_material, m.material_constants, m.densities,
+            s.history, c.type, c.coefficient, w.q1, w.q2, w.nodal_forces, w.cell_volume,
+            w.cell_dt, w.energy_increments,
+        )  # fmt: skip
+
+    def finish_arguments(self) -> tuple:
+        """:func:`kern.finish_cycle`'s arguments but the row, on the state's arrays."""
+        s, w = self.state, self.work
+        return (w.energy_increments, w.cell_dt, w.nodal_forces, w.nodes, w.contacts, s.points,
+                s.velocities, s.clock, s.counters, s.energies, self.limits)  # fmt: skip
+
+    def element_forces(self) -> None:
+        """Stress update and element nodal forces from x^n and v^(n-1/2)."""
+        kernel, arguments, controls = self.kernel_call()
+        kernel(*arguments, (self.state.dt, *controls))
 
     def finish(self, row: np.ndarray) -> int:
         """Contact, time step, update, checks and the history row (one compiled call)."""
-        s, w = self.state, self.work
-        return int(
-            kern.finish_cycle(
-                w.energy_increments,
-                w.cell_dt,
-                w.nodal_forces,
-                w.nodes,
-                w.contacts,
-                s.points,
-                s.velocities,
-                s.clock,
-                s.counters,
-                s.energies,
-                self.limits,
-                row,
-            )
-        )
+        return int(kern.finish_cycle(*self.finish_arguments(), row))  # type: ignore[call-arg]
 
     def cycle(self, row: np.ndarray | None = None) -> tuple[float, int]:
         """One explicit cycle; returns (kinetic energy, nodes in contact). Stops on failure."""
@@ -495,14 +483,26 @@ class ExplicitSolver:
         start = time.perf_counter()
         frames = rec.frames
         frames.record(0.0, self.frame)
+        phases = self.phase_seconds
         while s.clock[kern.TIME] < c.end_time and not self.separated:
-            self.cycle(rec.next_row())
-            rec.n_rows += 1
+            rec.next_row()  # room for at least one row
+            kernel, arguments, controls = self.kernel_call()
+            begin = time.perf_counter()
+            status, rec.n_rows = kern.run_cycles(
+                kernel, arguments, controls, self.finish_arguments(), rec.table, rec.n_rows,
+                c.end_time, frames.next_time, 0 if progress is None else PROGRESS_STEPS,
+            )  # fmt: skip
+            between = time.perf_counter()
+            phases["cycles"] += between - begin
+            if status < 0:
+                self.raise_failure(status, rec.table[rec.n_rows])
+            self.separated = status == kern.CYCLE_SEPARATED
             t = s.clock[kern.TIME]
             if frames.due(t):
                 frames.record(t, self.frame)
-            if progress is not None and s.counters[kern.STEP] % 200 == 0:
+            if progress is not None and s.counters[kern.STEP] % PROGRESS_STEPS == 0:
                 progress(t)
+            phases["frames"] += time.perf_counter() - between
         frames.add(s.time, self.frame())
         return self.result(rec, time.perf_counter() - start)
 
