@@ -20,8 +20,6 @@ from collections.abc import Callable
 import numba
 from yardstick import cpu_description
 
-from batball.elements.hex8 import compute_hex8_forces
-from batball.elements.hex8_foam import foam_element_forces
 from batball.models.impact import ImpactSetup, build_impact_model
 from batball.solvers.explicit import ExplicitControls, ExplicitSolver, HourglassControl
 from batball.specs import load_ball_spec
@@ -45,24 +43,9 @@ def loaded_solver(
 
 
 def kernel_call(solver: ExplicitSolver) -> Callable[[], None]:
-    """One call of the kernel on the solver's arrays (as ``ExplicitSolver.element_forces``)."""
-    s, w, m, c = solver.state, solver.work, solver.model, solver.controls.hourglass
-
-    if m.foam is not None:
-
-        def foam_call() -> None:
-            foam_element_forces(m, s.points, s.velocities, s.dt, w, s.foam_history, s.hg_state, c)
-
-        return foam_call
-
-    def call() -> None:
-        compute_hex8_forces(
-            s.points, s.velocities, w.cells, s.dt, w.cell_material, m.material_constants,
-            m.densities, s.history, c.type, c.coefficient, w.q1, w.q2, w.nodal_forces,
-            w.cell_volume, w.cell_dt, w.energy_increments,
-        )  # fmt: skip
-
-    return call
+    """One call of the ball's element kernel on the solver's arrays, as its cycles make it
+    (``ExplicitSolver.element_forces``: the hex kernel, or a foam ball's)."""
+    return solver.element_forces
 
 
 def seconds_per_call(call: Callable[[], None], calls: int, repeats: int) -> list[float]:

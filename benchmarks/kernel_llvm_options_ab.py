@@ -44,15 +44,10 @@ def main() -> None:
     )
     args = one_thread_arguments(parser, 40, 100, 9)
     solver = loaded_solver(1, args.cycles)
-    s, w, m, c = solver.state, solver.work, solver.model, solver.controls.hourglass
-    arguments = (
-        (s.points, s.velocities, hex8.kernel_ids(w.cells)),
-        (hex8.kernel_ids(w.cell_material), m.material_constants, m.densities),
-        s.history,
-        (w.nodal_forces, w.cell_volume, w.cell_dt, w.energy_increments),
-        (float(s.dt), float(c.coefficient), float(w.q1), float(w.q2)),
-    )
-    present = hex8._forces_viscous
+    present, arguments, controls = solver.kernel_call()
+    if present is not hex8._forces_viscous:  # the variant below is compiled from its source
+        raise SystemExit("the CCOR solver of ball type 1 no longer runs hex8._forces_viscous")
+    arguments = (*arguments, (float(solver.state.dt), *controls))
     present(*arguments)
     for option in args.options:
         llvm.set_option("kernel_llvm_options_ab", option)

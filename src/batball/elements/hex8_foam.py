@@ -623,25 +623,6 @@ def foam_kernel_call(
 N_FOAM_HISTORY = N_HISTORY
 
 
-def foam_element_forces(
-    model: Any,
-    points: np.ndarray,
-    velocities: np.ndarray,
-    dt: float,
-    work: Any,
-    history: np.ndarray,
-    hg_state: np.ndarray,
-    hourglass: Any,
-) -> None:
-    """The solver's one call into this kernel (``ExplicitSolver.element_forces``): the foam
-    body of ``model`` (``model.foam``) with the solver's workspace ``work`` (volume0, the
-    reference gradients ``foam_reference``, q1, q2 and the output arrays) and hourglass control."""
-    kernel, arguments, controls = foam_solver_call(
-        model, points, velocities, work, history, hg_state, hourglass
-    )
-    kernel(*arguments, (float(dt), *controls))
-
-
 def foam_solver_call(
     model: Any,
     points: np.ndarray,
@@ -651,8 +632,10 @@ def foam_solver_call(
     hg_state: np.ndarray,
     hourglass: Any,
 ) -> tuple[Callable, tuple, tuple]:
-    """:func:`foam_kernel_call` for the solver's arrays, as :func:`foam_element_forces` takes
-    them."""
+    """The solver's call into this kernel (``ExplicitSolver.kernel_call``): :func:`foam_kernel_call`
+    for the foam body of ``model`` (``model.foam``) with the solver's workspace ``work``
+    (volume0, the reference gradients ``foam_reference``, q1, q2 and the output arrays) and
+    hourglass control."""
     return foam_kernel_call(
         points, velocities, work.cells, work.foam_reference, float(model.densities[0]),
         work.volume0, model.foam.arrays(), history, hg_state, hourglass.type,

@@ -351,11 +351,10 @@ class _Recorder:
         self.n_contacts = n_contacts
         self.frames = FrameRecorder(frame_interval)
 
-    def next_row(self) -> np.ndarray:
-        """The row the next cycle writes (the table doubles when full)."""
+    def make_room(self) -> None:
+        """At least one free row for the next cycle (the table doubles when full)."""
         if self.n_rows == len(self.table):
             self.table = np.concatenate((self.table, np.zeros_like(self.table)))
-        return self.table[self.n_rows]
 
     def arrays(self) -> dict[str, np.ndarray]:
         table = self.table[: self.n_rows]
@@ -485,7 +484,7 @@ class ExplicitSolver:
         frames.record(0.0, self.frame)
         phases = self.phase_seconds
         while s.clock[kern.TIME] < c.end_time and not self.separated:
-            rec.next_row()  # room for at least one row
+            rec.make_room()
             kernel, arguments, controls = self.kernel_call()
             begin = time.perf_counter()
             status, rec.n_rows = kern.run_cycles(
