@@ -139,7 +139,7 @@ def _advance_all(element_block, mesh, material, history, outputs, controls):
 # Numba's cache is keyed on this file alone: after editing the modules it inlines, change
 # INLINED below, so that a cache compiled from the old code is not loaded (a checkout leaves
 # this file's time stamp as it was unless its text changes).
-INLINED = "hex8_block: the deviatoric stresses stored as soon as they are updated"
+INLINED = "hex8_block: blocks of 64 cells on every host"
 
 
 @nb.njit(parallel=True, fastmath=FASTMATH, cache=True)

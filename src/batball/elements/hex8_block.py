@@ -38,15 +38,17 @@ from batball.elements.hex8_response import element_response, stable_step
 from batball.elements.vector_math import component_rows, like, shuffle_mask, transposed_lanes
 from batball.errors import SpecError
 from batball.materials.viscoelastic import viscoelastic_step_factors
-from batball.numerics import FASTMATH, wide_vectors
+from batball.numerics import FASTMATH
 
-#: Elements per block: a multiple of the SIMD width whose scratch (N_ROWS rows) stays in L1.
-#: 32 (two 512-bit vectors of float32) where the kernels are compiled for AVX-512: on a Sapphire
-#: Rapids Xeon the full-size single-precision CCOR solver ran 7-14 % faster on one thread with 32
-#: than with 16, and 32 was as fast as 64 or faster; 64 (eight 256-bit vectors) elsewhere: on an
-#: AVX2 EPYC (Zen 3) the single-precision kernel ran 12-19 % faster with 64 than with 16 (IHQ 1
-#: and 4), double precision 2-10 %, and 32 and 128 fell between (benchmarks/RESULTS.md).
-BLOCK = 32 if wide_vectors() else 64
+#: Elements per block: a multiple of the SIMD width whose scratch (N_ROWS rows) stays in L1, the
+#: same on every host (the history's layout follows it). 64: on an AVX2 EPYC (Zen 3) the
+#: single-precision kernel ran 12-19 % faster with 64 than with 16 (IHQ 1 and 4), double
+#: precision 2-10 %, and 32 and 128 fell between; on an AVX-512 EPYC (Zen 5) the full-size
+#: single-precision CCOR solver ran 1-14 % faster on one thread with 64 than with 32 (median
+#: 4 %, 7 of 7 alternated rounds), and 128 was no faster than 64. On a Sapphire Rapids Xeon,
+#: with the kernel of 2026-12-05 (before the gather by runs of nodes), 32 had been 2-6 % faster
+#: than 64 (benchmarks/RESULTS.md).
+BLOCK = 64
 
 # Rows of the block scratch (each BLOCK wide).
 R_X = 0  # 24 node coordinates x^n [m] (node-major), then the 24 nodal forces [N]

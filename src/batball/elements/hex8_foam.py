@@ -510,6 +510,12 @@ def _foam_cells(first, end, mesh, material, state, outputs, controls):
     return sums
 
 
+# Numba's cache is keyed on this file alone: after editing what the cached kernels here inline
+# from hex8 and hex8_block (slot_cells and its BLOCK, node_offset, add_pair), change INLINED, so
+# that a cache compiled from the old code is not loaded.
+INLINED = "hex8.slot_cells: blocks of 64 cells on every host"
+
+
 @nb.njit(parallel=True, cache=True)
 def _foam_forces(mesh, material, state, outputs, energy_increments, controls):
     """All cells in the slots of ``nodal_forces`` (rows of ``energy_increments``), in parallel, as

@@ -224,8 +224,8 @@ def assert_close(actual: np.ndarray, expected: np.ndarray, rel: float = 1e-10) -
 
 @pytest.mark.parametrize("hg_type", [1, 2, 3, 4, 5])
 def test_kernel_matches_the_per_element_reference(hg_type: int) -> None:
-    # 264 cells: several blocks of the kernel's layout whatever BLOCK is (32 or 64), the last
-    # one partial, split over three slots
+    # 264 cells: several blocks of the kernel's layout (BLOCK cells), the last one partial,
+    # split over three slots
     model = distorted_model(seed=hg_type, n=(4, 6, 11))
     got = run_kernel(model, hg_type, qh=0.1, q1=1.5, q2=0.06, n_chunks=3)
     want = run_reference(model, 4 if hg_type == 5 else (2 if hg_type == 3 else hg_type), 0.1,
@@ -297,8 +297,8 @@ def test_inverted_element_gets_no_forces_step_or_work() -> None:
 
 
 def test_energies_do_not_depend_on_the_number_of_chunks() -> None:
-    # 264 cells: more than four blocks of the widest block layout (64), the last one partial,
-    # so that the seven slots hold different runs of whole blocks whatever BLOCK is
+    # 264 cells: more than four blocks of BLOCK (64) cells, the last one partial, so that the
+    # seven slots hold different runs of whole blocks (and some none)
     model = distorted_model(seed=4, n=(4, 6, 11))
     one = run_kernel(model, 1, qh=0.1, q1=1.5, q2=0.06, n_chunks=1)
     many = run_kernel(model, 1, qh=0.1, q1=1.5, q2=0.06, n_chunks=7)
@@ -462,7 +462,9 @@ def test_force_scatter_adds_runs_of_nodes_pair_by_pair(dtype: type, ids: type) -
     w = rng.standard_normal(N_ROWS * BLOCK).astype(dtype)
     forces = rng.standard_normal(n_points * 3) * 10.0 ** rng.uniform(0.0, 9.0, n_points * 3)
     want = forces.copy()
-    start, n = 24, BLOCK - 1  # a broken line's first group, runs, the unjoined group, 3 more
+    start = 24
+    n = len(cells) - start  # 31: a broken line's first group, runs, the unjoined group, 3 more
+    assert n % RUN == 3 and n < BLOCK
     values = w[R_X * BLOCK : (R_X + 24) * BLOCK].reshape(24, BLOCK).astype(np.float64)
 
     def cell_by_cell(e0: int, count: int) -> None:
