@@ -7,8 +7,9 @@ the Python step loop makes two calls per cycle. Numba's cache of this module doe
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable
-from typing import cast
+from typing import Any, cast
 
 import numba as nb
 import numpy as np
@@ -604,7 +605,6 @@ def finish_cycle(
     return CYCLE_OK
 
 
-@nb.njit
 def run_cycles(
     kernel: Callable,
     kernel_arguments: tuple,
@@ -626,7 +626,63 @@ def run_cycles(
 
     The caller does between calls what needs Python (frames, progress, a bigger table, the
     failure's message): the per-cycle call and dispatch from Python cost a few microseconds a
-    cycle, and on two threads more than a tenth of a full-size CCOR cycle."""
+    cycle, and on two threads more than a tenth of a full-size CCOR cycle.
+
+    The loop (:func:`_cycles`) takes the kernel as a first-class function of the kernel's
+    signature, which it calls through its address: a loop typed on the kernel itself (a
+    dispatcher) linked the kernel's code in and optimised it again, 1.3-1.7 s in every process,
+    and could not be cached (the dispatcher is part of the type). Typed on the signature, it is
+    compiled once per signature and cached like the other kernels."""
+    typed = (kernel_arguments, kernel_controls, finish_arguments, table)
+    loop = _typed_loop(kernel, typed)
+    status, row = loop(kernel, typed, first_row, end_time, frame_time, progress_every)
+    return status, row
+
+
+#: Per element kernel, the loop last typed for it and what it was typed from (:func:`_typed_loop`).
+_LOOPS: dict[Callable, tuple[object, list[weakref.ref], Callable]] = {}
+
+
+def _identity(value: object, arrays: list[weakref.ref]) -> object:
+    """What fixes the Numba type of ``value``: an array by its identity (its dtype, rank and
+    layout are its own for life; a weak reference to it goes to ``arrays``), a tuple element by
+    element, anything else by its Python type."""
+    if isinstance(value, tuple):
+        return tuple(_identity(v, arrays) for v in value)
+    if isinstance(value, np.ndarray):
+        arrays.append(weakref.ref(value))
+        return id(value)
+    return type(value)
+
+
+def _typed_loop(kernel: Callable, typed: tuple) -> Callable:
+    """:func:`_cycles` compiled (or loaded) for ``kernel``'s signature and the types of ``typed``
+    (the kernel's arguments and controls, ``finish_cycle``'s arguments, the table). Typing them
+    took about 0.5 ms a stretch at full size (2 % of a CCOR run), so the loop is kept for the
+    same arrays, which a solver passes stretch after stretch."""
+    arrays: list[weakref.ref] = []
+    key = _identity(typed, arrays)
+    last = _LOOPS.get(kernel)
+    if last is not None and last[0] == key and all(ref() is not None for ref in last[1]):
+        return last[2]
+    kernel_arguments, kernel_controls = typed[0], typed[1]
+    signature = types.none(*(nb.typeof(a) for a in kernel_arguments),
+                           nb.typeof((0.0, *kernel_controls)))  # fmt: skip
+    cast("Any", kernel).compile(signature.args)  # the overload the loop takes the address of
+    loop = _cycles.compile((types.FunctionType(signature), nb.typeof(typed), types.int64,
+                            types.float64, types.float64, types.int64))  # fmt: skip
+    _LOOPS[kernel] = (key, arrays, loop)
+    return loop
+
+
+@nb.njit(cache=True)
+def _cycles(
+    kernel: Callable, typed: tuple, first_row: int, end_time: float, frame_time: float,
+    progress_every: int,
+) -> tuple[int, int]:  # fmt: skip
+    """The loop of :func:`run_cycles`; ``typed`` holds its kernel arguments, kernel controls,
+    finish arguments and table."""
+    kernel_arguments, kernel_controls, finish_arguments, table = typed
     clock, counters = finish_arguments[7], finish_arguments[8]
     row = first_row
     status = CYCLE_OK
