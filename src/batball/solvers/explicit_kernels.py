@@ -644,8 +644,9 @@ _LOOPS: dict[Callable, tuple[object, list[weakref.ref], Callable]] = {}
 
 
 def _identity(value: object, arrays: list[weakref.ref]) -> object:
-    """What fixes the Numba type of ``value``: an array by its identity (its dtype, rank and
-    layout are its own for life; a weak reference to it goes to ``arrays``), a tuple element by
+    """What fixes the Numba type of ``value``: an array by its identity (a weak reference to it
+    goes to ``arrays``; its dtype, rank, layout and writeability, which its type holds, stay as
+    they are unless set on the array itself, which the solvers never do), a tuple element by
     element, anything else by its Python type."""
     if isinstance(value, tuple):
         return tuple(_identity(v, arrays) for v in value)
