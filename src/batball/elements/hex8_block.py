@@ -91,9 +91,10 @@ def history_rows(n_terms: int) -> int:
     return N_CORE_ROWS + N_HOURGLASS_ROWS + 6 * (n_terms - 1)
 
 
+@nb.njit(inline="always")
 def constants_terms(constants: np.ndarray) -> int:
     """The number of Prony terms N of kernel constants (n_materials, 2 N + 2)."""
-    return int(constants.shape[1] // 2 - 1)
+    return constants.shape[1] // 2 - 1
 
 
 def history_terms(history: np.ndarray) -> int:

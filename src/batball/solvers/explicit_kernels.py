@@ -52,11 +52,10 @@ def slot_node_ranges(cells: np.ndarray, n_slots: int) -> np.ndarray:
     """The node ids each slot of the element kernel can write: (n_slots, 2) [lowest, highest + 1]
     over the slot's cells (:func:`batball.elements.hex8.slot_cells`, as the element kernel
     splits them). The update takes a slot's forces only inside its range (they are zero outside
-    it), and at a node that one slot's range holds, only that slot's. (``slot_cells``' Python
-    function: the same integer arithmetic, without compiling it in every process, 0.15 s.)"""
+    it), and at a node that one slot's range holds, only that slot's."""
     ranges = np.zeros((n_slots, 2), dtype=np.int64)
     for slot in range(n_slots):
-        first, end = slot_cells.py_func(slot, n_slots, cells.shape[0])
+        first, end = slot_cells(slot, n_slots, cells.shape[0])
         part = cells[first:end]
         if part.size:
             ranges[slot] = part.min(), part.max() + 1
