@@ -58,13 +58,14 @@ Things counted as written that the compiled code may not do (the uncertainty of 
   divisions; with the ``arcp`` fast-math flag (``numerics.FASTMATH``) LLVM may make them multiplies;
 * the shells' ``zt = z * t`` is loop-invariant across the slots (counted per slot, as written).
 
-Not per element, not in the totals: per block of cells (64 hexes, ``hex8_block.BLOCK``; 16
-shells, ``shell_bt.BLOCK``), the hex's three work sums of ``hex8._advance_slot`` (3 adds) and the
-shell's hourglass constants of ``advance_blocks`` (4 flops); per material and cycle,
-``hex8_block.material_factors`` (exp etc.); per node after the shell kernel, the negation ``out *= -1.0`` (6 mul, one thread) or ``sum_slots`` (6 adds and 6 mul
-per node and slot). The shells' layer loop always runs all 16 slots of a block and whole groups of
-5 layers (zero layers pad the rest); on the default bat every block is full (20,928 cells in 1,308
-blocks) and every laminate has a multiple of 5 layers, so neither adds work there.
+Not per element, not in the totals: per block of cells (64 hexes, ``hex8_block.BLOCK``; 16 shells,
+``shell_bt.BLOCK``), the hex's three work sums of ``hex8._advance_slot`` (3 adds) and the shell's
+hourglass constants of ``advance_blocks`` (4 flops); per material and cycle,
+``hex8_block.material_factors`` (exp etc.); per node after the shell kernel, the negation
+``out *= -1.0`` (6 mul, one thread) or ``sum_slots`` (6 adds and 6 mul per node and slot). The
+shells' layer loop always runs all 16 slots of a block and whole groups of 5 layers (zero layers
+pad the rest); on the default bat every block is full (20,928 cells in 1,308 blocks) and every
+laminate has a multiple of 5 layers, so neither adds work there.
 
 Parameters the benchmarks use: bench_ccor's type-1 ball has n_terms = 1 (-> 1560 flops, 9
 divisions, 3 square roots, 1 log, 1 cbrt per hex per cycle). The BBS benchmark's ball is type 1 too
