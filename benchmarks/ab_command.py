@@ -34,6 +34,15 @@ from yardstick import cpu_description
 REPOSITORY = Path(__file__).resolve().parent.parent
 
 
+def checked_revision(option: str, revision: str) -> str:
+    """``revision`` as a commit id, or a one-line error naming the option."""
+    found = subprocess.run(["git", "-C", str(REPOSITORY), "rev-parse", "--verify", "-q",
+                            f"{revision}^{{commit}}"], capture_output=True, text=True)  # fmt: skip
+    if found.returncode != 0:
+        raise SystemExit(f"{option} {revision!r}: not a commit of {REPOSITORY}")
+    return found.stdout.strip()
+
+
 def checkout(revision: str, folder: Path) -> Path:
     """A worktree of ``revision`` in ``folder``; its ``src``."""
     subprocess.run(["git", "-C", str(REPOSITORY), "worktree", "add", "--detach", "-f", "-q",
@@ -41,18 +50,31 @@ def checkout(revision: str, folder: Path) -> Path:
     return folder / "src"
 
 
-def run_once(source: Path, cache: Path, threads: int, command: list[str], field: str | None
+def environment(source: Path, cache: Path, threads: int) -> dict[str, str]:
+    """The environment of a run of the code in ``source``, checked to import it from there (an
+    installed batball must not take its place)."""
+    variables = dict(os.environ, PYTHONPATH=str(source), NUMBA_CACHE_DIR=str(cache),
+                     NUMBA_NUM_THREADS=str(threads))  # fmt: skip
+    where = subprocess.run([sys.executable, "-c", "import batball; print(batball.__file__)"],
+                           env=variables, capture_output=True, text=True)  # fmt: skip
+    if not where.stdout.strip().startswith(str(source)):
+        raise SystemExit(f"batball imports from {where.stdout.strip() or where.stderr[-500:]}, "
+                         f"not from {source}")  # fmt: skip
+    return variables
+
+
+def run_once(variables: dict[str, str], command: list[str], field: str | None
              ) -> tuple[float, str]:  # fmt: skip
-    """Process wall seconds of ``batball COMMAND --runs-dir NEW`` on the code in ``source``, and
-    ``field`` of its JSON output ("" without one)."""
-    environment = dict(os.environ, PYTHONPATH=str(source), NUMBA_CACHE_DIR=str(cache),
-                       NUMBA_NUM_THREADS=str(threads))  # fmt: skip
+    """Process wall seconds of ``batball COMMAND --runs-dir NEW`` in the environment
+    ``variables`` (:func:`environment`), and ``field=value`` of its JSON output ("" without
+    ``field``)."""
+    source = variables["PYTHONPATH"]
     with tempfile.TemporaryDirectory(prefix="ab-runs-") as runs:
         start = time.perf_counter()
         done = subprocess.run(
             [sys.executable, "-c", "from batball.cli import main; main()", *command,
              "--runs-dir", runs],
-            env=environment, capture_output=True, text=True,
+            env=variables, capture_output=True, text=True,
         )  # fmt: skip
         seconds = time.perf_counter() - start
     if done.returncode != 0:
@@ -60,7 +82,7 @@ def run_once(source: Path, cache: Path, threads: int, command: list[str], field:
     if field is None:
         return seconds, ""
     try:
-        return seconds, repr(json.loads(done.stdout)[field])
+        return seconds, f"{field}={json.loads(done.stdout)[field]!r}"
     except (json.JSONDecodeError, KeyError) as error:
         raise SystemExit(f"{source}: no JSON field {field!r} in the output ({error})") from error
 
@@ -76,29 +98,28 @@ def main() -> None:
     args = parser.parse_args()
     if args.rounds < 1 or args.threads < 1:
         raise SystemExit(f"--rounds {args.rounds} and --threads {args.threads}: each at least 1")
+    revisions = {"before": checked_revision("--before", args.before)}
+    if args.after is not None:
+        revisions["after"] = checked_revision("--after", args.after)
     print(json.dumps(cpu_description()), f"threads {args.threads}", flush=True)
     with tempfile.TemporaryDirectory(prefix="ab-command-") as scratch:
         root = Path(scratch)
         trees: list[Path] = []
         try:
-            sources = {"before": checkout(args.before, root / "before")}
-            trees.append(root / "before")
-            if args.after is None:
-                sources["after"] = REPOSITORY / "src"
-            else:
-                sources["after"] = checkout(args.after, root / "after")
-                trees.append(root / "after")
-            caches = {code: root / f"cache-{code}" for code in sources}
-            for code, source in sources.items():  # compile into each code's own cache
-                seconds, value = run_once(source, caches[code], args.threads, args.command,
-                                          args.field)  # fmt: skip
+            sources = {"after": REPOSITORY / "src"}
+            for code, revision in revisions.items():
+                trees.append(root / code)
+                sources[code] = checkout(revision, root / code)
+            runs = {code: environment(sources[code], root / f"cache-{code}", args.threads)
+                    for code in ("before", "after")}  # fmt: skip
+            for code, variables in runs.items():  # compile into each code's own cache
+                seconds, value = run_once(variables, args.command, args.field)
                 print(f"warm-up {code}: {seconds:.1f} s {value}", flush=True)
             ratios = []
             for r in range(1, args.rounds + 1):
                 times = {}
-                for code, source in sources.items():
-                    times[code], value = run_once(source, caches[code], args.threads,
-                                                  args.command, args.field)  # fmt: skip
+                for code, variables in runs.items():
+                    times[code], value = run_once(variables, args.command, args.field)
                     print(f"round {r} {code}: {times[code]:.1f} s {value}", flush=True)
                 ratios.append(times["before"] / times["after"])
                 print(f"round {r} before/after: {ratios[-1]:.2f}", flush=True)
