@@ -98,6 +98,8 @@ def main() -> None:
     args = parser.parse_args()
     if args.rounds < 1 or args.threads < 1:
         raise SystemExit(f"--rounds {args.rounds} and --threads {args.threads}: each at least 1")
+    if any(word.startswith("--runs-dir") for word in args.command):
+        raise SystemExit("the command's --runs-dir: leave it out (each run gets a new empty one)")
     revisions = {"before": checked_revision("--before", args.before)}
     if args.after is not None:
         revisions["after"] = checked_revision("--after", args.after)
