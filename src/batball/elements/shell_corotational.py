@@ -121,15 +121,17 @@ CHUNK = 64
 
 # A chunk's work array ``w`` holds one row per quantity and one column per cell (structure of
 # arrays, row r of column col at [r * CHUNK + col], the rows constant: LLVM then sees that the
-# loops over the columns carry no dependence and vectorises them): the corners' reference
-# positions in the undeformed frame, the current frame E's rows, the corners' cosines, the 24
+# loops over the columns carry no dependence and vectorises them): the current frame E's rows,
+# the corners' cosines, the 24
 # deformational dofs (dof k of corner a at row W_D + dof(a, k), k = 0..2 the displacements,
 # 3..5 the rotations; later the global forces), the 24 local forces (alike from W_F), and the
 # corners' squared sines. Before the local forces are made, the rows from W_F on hold what the
 # cells' corners are gathered into: corner a's current coordinate k at row W_X + 3 a + k and
-# its total rotation's entry (i, j) at row W_R + 9 a + 3 i + j.
-W_REF, W_FRAME, W_COS, W_D, W_F, W_SINE2 = 0, 12, 21, 25, 49, 73
-W_X, W_R, W_ROWS = 49, 61, 97
+# its total rotation's entry (i, j) at row W_R + 9 a + 3 i + j. The corners' reference
+# positions are read from the chunk's constants where they are needed, not copied here: at 85
+# rows the array (42.5 KiB) fits a 48 KiB first-level data cache (benchmarks/RESULTS.md).
+W_FRAME, W_COS, W_D, W_F, W_SINE2 = 0, 9, 13, 37, 61
+W_X, W_R, W_ROWS = 37, 49, 85
 #: Rows of a chunk's constants (``CorotationalShellForces.constants``): the undeformed frame E0
 #: (row-major) and the corners' reference positions, one column per cell.
 C_FRAME0, C_REF, C_ROWS = 0, 9, 21
@@ -215,8 +217,8 @@ def frame_row_times(e: Vec3, w: np.ndarray, a: int, col: int) -> Vec3:
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def deformation(constants: np.ndarray, w: np.ndarray, col: int) -> None:
     """Column ``col`` of the work array, from its corners gathered (:func:`gather_corners`) and
-    the chunk's ``constants`` (C_ROWS * CHUNK,): the corners' reference positions, their
-    deformational displacements (local frame), the current frame's rows, and, of each corner's
+    the chunk's ``constants`` (C_ROWS * CHUNK,): the corners' deformational displacements
+    (local frame), the current frame's rows, and, of each corner's
     rotation in the frames, E R_a E0^T, the cosine and the sine vector s (the axial vector of
     the skew part, in the rotation rows, which :func:`rotation_vectors` turns into the rotation
     vector). Every load and store is a row of a column: a SIMD loop over the columns."""
@@ -243,16 +245,14 @@ def deformation(constants: np.ndarray, w: np.ndarray, col: int) -> None:
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
 def corner_deformation(frame: tuple, m: Vec3, frame0: tuple, constants: np.ndarray,
                        w: np.ndarray, a: int, col: int) -> None:  # fmt: skip
-    """Corner ``a`` of :func:`deformation`: its reference position, deformational displacement
-    and rotation's cosine and sine vector, with the current ``frame`` E, centroid ``m`` and the
+    """Corner ``a`` of :func:`deformation`: its deformational displacement and rotation's
+    cosine and sine vector, with the current ``frame`` E, centroid ``m`` and the
     undeformed frame ``frame0`` E0."""
     e1, e2, e3 = frame
     f0, f1, f2 = frame0
     ref = load3(constants, C_REF + 3 * a, col)
     x = load3(w, W_X + 3 * a, col)
     p = (x[0] - m[0], x[1] - m[1], x[2] - m[2])
-    for k in range(3):
-        w[(W_REF + 3 * a + k) * CHUNK + col] = ref[k]
     w[(W_D + dof(a, 0)) * CHUNK + col] = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2] - ref[0]
     w[(W_D + dof(a, 1)) * CHUNK + col] = e2[0] * p[0] + e2[1] * p[1] + e2[2] * p[2] - ref[1]
     w[(W_D + dof(a, 2)) * CHUNK + col] = e3[0] * p[0] + e3[1] * p[1] + e3[2] * p[2] - ref[2]
@@ -348,14 +348,15 @@ def local_product(stiffness: np.ndarray, nonzero: np.ndarray, w: np.ndarray) -> 
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
-def balance_moment(w: np.ndarray, col: int) -> None:
+def balance_moment(constants: np.ndarray, w: np.ndarray, col: int) -> None:
     """Remove from column ``col``'s local forces (rows W_F..) their moment M about the current
     centroid by the forces c x p_a, J c = -M, J = sum (|p|^2 I - p p^T), p_a = reference + d
-    the corners' current local positions (module docs)."""
+    the corners' current local positions (module docs), the reference positions from the
+    chunk's ``constants``."""
     mx = my = mz = 0.0
     j00 = j11 = j22 = j01 = j02 = j12 = 0.0
     for a in range(4):
-        ref, u = load3(w, W_REF + 3 * a, col), load_dofs(w, W_D, a, 0, col)
+        ref, u = load3(constants, C_REF + 3 * a, col), load_dofs(w, W_D, a, 0, col)
         p = (ref[0] + u[0], ref[1] + u[1], ref[2] + u[2])
         t = cross(p, load_dofs(w, W_F, a, 0, col))
         rotational = load_dofs(w, W_F, a, 3, col)
@@ -376,7 +377,7 @@ def balance_moment(w: np.ndarray, col: int) -> None:
     couple = (-(a00 * mx + a01 * my + a02 * mz) / det, -(a01 * mx + a11 * my + a12 * mz) / det,
               -(a02 * mx + a12 * my + a22 * mz) / det)  # fmt: skip
     for a in range(4):
-        ref, u = load3(w, W_REF + 3 * a, col), load_dofs(w, W_D, a, 0, col)
+        ref, u = load3(constants, C_REF + 3 * a, col), load_dofs(w, W_D, a, 0, col)
         t = cross(couple, (ref[0] + u[0], ref[1] + u[1], ref[2] + u[2]))
         for k in range(3):
             w[(W_F + dof(a, k)) * CHUNK + col] += t[k]
@@ -428,7 +429,7 @@ def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
     rotation_vectors(w, stop - first)
     local_product(stiffness, nonzero, w)
     for col in range(CHUNK):
-        balance_moment(w, col)
+        balance_moment(constants, w, col)
         e1, e2 = load3(w, W_FRAME, col), load3(w, W_FRAME + 3, col)
         e3 = load3(w, W_FRAME + 6, col)
         for a in range(4):  # each corner's forces and moments alike: E^T g, in d's rows
