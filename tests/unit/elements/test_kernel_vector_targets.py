@@ -1,4 +1,5 @@
-"""The element kernels vectorise for both kinds of x86 CPU batball runs on, whatever the host.
+"""The element kernels (hex, MITC4 and Belytschko-Tsay shells) vectorise for both kinds of x86
+CPU batball runs on, whatever the host.
 
 Their speed rests on LLVM vectorising their loops across the cells of a block or chunk, and the
 width is the target's: sixteen 256-bit registers on an AVX2 CPU (AMD Zen 3), thirty-two 512-bit
@@ -61,6 +62,17 @@ kernel = kernels.chunk_forces
 """
 )
 
+#: The Belytschko-Tsay shells' kinematics over a block of cells (frame, B, strain rates, the
+#: shear and hourglass update), typed from its arguments' types.
+BT = (
+    IMPORT.format(module="shell_bt")
+    + """
+arguments = (np.zeros(1), 1, 0.1, (0.0, 0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+signature = tuple(numba.typeof(a) for a in arguments)
+kernel = kernels.block_kinematics
+"""
+)
+
 #: The child's end: compile, without running, and print the assembly.
 PRINT = """
 kernel.compile(signature)
@@ -98,6 +110,8 @@ TARGETS = [
         # K0 d, balance and global axes): 676 for either target here, the deformation's loop
         # alone well over a third of them
         pytest.param(MITC4, "pd", 400, id="mitc4"),
+        # the BT shells' kinematics loop: 304 for either target here
+        pytest.param(BT, "pd", 150, id="bt"),
     ],
 )
 @pytest.mark.parametrize(("cpu", "features", "register", "other"), TARGETS)
