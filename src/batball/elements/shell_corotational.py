@@ -383,25 +383,58 @@ def balance_moment(constants: np.ndarray, w: np.ndarray, col: int) -> None:
             w[(W_F + dof(a, k)) * CHUNK + col] += t[k]
 
 
-@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
-def scatter_chunk(w: np.ndarray, cells: np.ndarray, first: int, stop: int, run: tuple,
-                  corners: tuple, shared: np.ndarray, out: np.ndarray) -> None:  # fmt: skip
-    """The global corner forces of cells ``first`` to ``stop`` (the work array's rows W_D..)
-    into their nodes: a node whose corners are all made by this ``run`` (begin, end: its
-    chunks) gets minus each corner's forces in ``out`` (n_points, 6), the first corner's
-    setting it (0 - f), the next ones' subtracted, so in cell order; a node whose corners two
-    runs make gets its corners stored in the chunk's ``shared`` (24 * CHUNK,), dof k of
-    column col at [k * CHUNK + col], for :func:`gather_node` after the parallel loop."""
-    begin, end = run
+#: How :func:`scatter_chunk` takes a corner's forces to its node (:func:`corner_kinds`): minus
+#: them added to the node's forces, or setting them (the node's first corner), or stored in the
+#: chunk's shared corners (a node whose corners two runs of chunks make).
+ADD, FIRST, SHARED = 0, 1, 2
+
+
+@nb.njit(inline="always")
+def run_count(n_runs: int, n_chunks: int) -> int:
+    """The runs of consecutive chunks the chunks are split into, given ``n_runs`` asked for: at
+    least one, at most one a chunk; run r holds chunks r n_chunks // runs to (r + 1) n_chunks //
+    runs."""
+    return max(1, min(n_runs, n_chunks))
+
+
+def corner_kinds(cells: np.ndarray, chunk_start: np.ndarray, corners: tuple,
+                 n_runs: int) -> np.ndarray:  # fmt: skip
+    """Each corner's kind (ADD, FIRST or SHARED), corner a of cell c at 4 c + a (int8), when the
+    chunks (``chunk_start``, :func:`kind_chunks`) run in ``n_runs`` runs (:func:`run_count`):
+    SHARED where one of the node's corners is in a chunk of another run (``corners``, from
+    :func:`node_corners`: the chunks of the node's first and last corner), else FIRST for the
+    node's first corner, else ADD. Taken once a number of runs, not in every call."""
+    n_chunks = chunk_start.size - 1
+    runs = run_count.py_func(n_runs, n_chunks)  # the same rule, in Python
+    bounds = np.arange(runs + 1) * n_chunks // runs
+    run = np.searchsorted(bounds, np.arange(n_chunks), side="right") - 1
+    cell_run = np.repeat(run, np.diff(chunk_start))
+    begin, end = bounds[cell_run][:, None], bounds[cell_run + 1][:, None]
     first_chunk, last_chunk, first_corner = corners[4], corners[5], corners[6]
+    shared = (first_chunk[cells] < begin) | (last_chunk[cells] >= end)
+    first = first_corner[cells] == 4 * np.arange(cells.shape[0])[:, None] + np.arange(4)
+    return np.where(shared, SHARED, np.where(first, FIRST, ADD)).astype(np.int8).ravel()
+
+
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def scatter_chunk(w: np.ndarray, cells: np.ndarray, first: int, stop: int, kinds: np.ndarray,
+                  shared: np.ndarray, out: np.ndarray) -> None:  # fmt: skip
+    """The global corner forces of cells ``first`` to ``stop`` (the work array's rows W_D..)
+    into their nodes, by each corner's kind (``kinds``, :func:`corner_kinds`): a node whose
+    corners are all made by this run of chunks gets minus each corner's forces in ``out``
+    (n_points, 6), the first corner's setting it (0 - f), the next ones' subtracted, so in cell
+    order; a node whose corners two runs make gets its corners stored in the chunk's ``shared``
+    (24 * CHUNK,), dof k of column col at [k * CHUNK + col], for :func:`gather_node` after the
+    parallel loop."""
     for col in range(stop - first):
         c = first + col
         for a in range(4):
             n = cells[c, a]
-            if first_chunk[n] < begin or last_chunk[n] >= end:
+            kind = kinds[4 * c + a]
+            if kind == SHARED:
                 for k in range(6):
                     shared[(6 * a + k) * CHUNK + col] = w[(W_D + dof(a, k)) * CHUNK + col]
-            elif first_corner[n] == 4 * c + a:
+            elif kind == FIRST:
                 for k in range(6):
                     out[n, k] = 0.0 - w[(W_D + dof(a, k)) * CHUNK + col]
             else:
@@ -412,7 +445,7 @@ def scatter_chunk(w: np.ndarray, cells: np.ndarray, first: int, stop: int, run: 
 @nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy")
 def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
                  constants: np.ndarray, stiffness: np.ndarray, nonzero: np.ndarray,
-                 first: int, stop: int, run: tuple, corners: tuple, shared: np.ndarray,
+                 first: int, stop: int, kinds: np.ndarray, shared: np.ndarray,
                  out: np.ndarray) -> None:  # fmt: skip
     """Cells ``first`` to ``stop`` (at most CHUNK, sharing ``stiffness`` (24, 24) and its
     ``nonzero`` blocks, :func:`product_blocks`): their corner forces and moments in global
@@ -438,7 +471,7 @@ def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
                 for i in range(3):
                     w[(W_D + dof(a, b + i)) * CHUNK + col] = \
                         e1[i] * g[0] + e2[i] * g[1] + e3[i] * g[2]
-    scatter_chunk(w, cells, first, stop, run, corners, shared, out)
+    scatter_chunk(w, cells, first, stop, kinds, shared, out)
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -462,17 +495,18 @@ def gather_node(n: int, corner_start: np.ndarray, corner_slot: np.ndarray, flat:
 @nb.njit(parallel=True, cache=True)
 def cell_and_node_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
                          constants: np.ndarray, product: tuple, chunks: tuple,
-                         corners: tuple, shared: np.ndarray, out: np.ndarray,
-                         n_runs: int) -> None:  # fmt: skip
+                         corners: tuple, kinds: np.ndarray, shared: np.ndarray,
+                         out: np.ndarray, n_runs: int) -> None:  # fmt: skip
     """The nodes' forces, minus the sums of their cells' corner forces, into ``out``
     (n_points, 6).
 
     ``product`` is each kind's K0 as :func:`product_blocks` gives it; ``chunks`` (chunk_start,
     (n_chunks + 1,); chunk_kind, (n_chunks,)) are the tasks, a chunk of cells of one kind
     each, with their ``constants`` (n_chunks, C_ROWS * CHUNK); ``corners``
-    (:func:`node_corners`) where each node's corners are. The chunks run in one parallel loop,
-    in ``n_runs`` runs of consecutive chunks (one a thread; the caller passes
-    :func:`numba.get_num_threads`: a kernel that calls it is not cached). A run adds each
+    (:func:`node_corners`) where each node's corners are, ``kinds`` (:func:`corner_kinds`, for
+    the same ``n_runs``) how each corner reaches its node. The chunks run in one parallel loop,
+    in ``n_runs`` runs of consecutive chunks (:func:`run_count`; one a thread: the caller
+    passes :func:`numba.get_num_threads`, as a kernel that calls it is not cached). A run adds each
     corner's forces into its node as soon as the chunk has made them, if the node's corners
     are all in the run; the corners of the few nodes that two runs share go to ``shared``
     (n_chunks, 24 * CHUNK) and are summed after the loop. Either way each node's sum runs over
@@ -482,14 +516,14 @@ def cell_and_node_forces(points: np.ndarray, cells: np.ndarray, rotations: np.nd
     stiffness, nonzero = product
     corner_start, corner_slot, node_start, nodes, first_chunk = corners[:5]
     n_chunks = chunk_kind.shape[0]
-    n_runs = max(1, min(n_runs, n_chunks))
+    n_runs = run_count(n_runs, n_chunks)
     for run in nb.prange(n_runs):
         begin, end = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
         for t in range(begin, end):
             kind = chunk_kind[t]
             chunk_forces(points, cells, rotations, constants[t], stiffness[kind],
-                         nonzero[kind], chunk_start[t], chunk_start[t + 1], (begin, end),
-                         corners, shared[t], out)  # fmt: skip
+                         nonzero[kind], chunk_start[t], chunk_start[t + 1], kinds,
+                         shared[t], out)  # fmt: skip
     flat = shared.ravel()
     for run in range(n_runs):  # the nodes two runs share, and those of no cell
         begin, end = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
@@ -611,6 +645,13 @@ class CorotationalShellForces:
         self.shared = np.zeros((self.chunk_kind.size, 24 * CHUNK))  # see cell_and_node_forces
         # the undeformed frames and the corners' reference positions, in the kernel's layout
         self.constants = chunk_constants(self.frames0, reference[order], self.chunk_start)
+        self._kinds: dict[int, np.ndarray] = {}  # corner_kinds by the number of runs asked for
+
+    def corner_kinds(self, n_runs: int) -> np.ndarray:
+        """:func:`corner_kinds` of these cells for ``n_runs`` runs, taken once."""
+        if n_runs not in self._kinds:
+            self._kinds[n_runs] = corner_kinds(self.cells, self.chunk_start, self.corners, n_runs)
+        return self._kinds[n_runs]
 
     def __call__(self, points: np.ndarray, velocity: np.ndarray, dt: float,
                  out: np.ndarray) -> None:  # fmt: skip
@@ -618,9 +659,10 @@ class CorotationalShellForces:
         the last step ``dt`` [s] (which first advances the nodes' rotations)."""
         rotations = self.state.history
         advance_rotations(rotations, velocity, dt)
+        n_runs = nb.get_num_threads()
         cell_and_node_forces(points, self.cells, rotations, self.constants, self.product,
                              (self.chunk_start, self.chunk_kind), self.corners,
-                             self.shared, out, nb.get_num_threads())  # fmt: skip
+                             self.corner_kinds(n_runs), self.shared, out, n_runs)  # fmt: skip
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy")

@@ -54,9 +54,8 @@ MITC4 = (
     IMPORT.format(module="shell_corotational")
     + """
 f8, i8 = np.zeros((1, 3)), np.zeros((1, 4), np.int64)
-corners = tuple(np.zeros(1, np.int64) for _ in range(7))
 arguments = (f8, i8, np.zeros((1, 3, 3)), np.zeros(1), np.zeros((24, 24)),
-             np.zeros((6, 6), np.uint8), 0, 1, (0, 1), corners, np.zeros(1), np.zeros((1, 6)))
+             np.zeros((6, 6), np.uint8), 0, 1, np.zeros(4, np.int8), np.zeros(1), np.zeros((1, 6)))
 signature = tuple(numba.typeof(a) for a in arguments)
 kernel = kernels.chunk_forces
 """

@@ -209,7 +209,7 @@ def test_the_nodes_forces_are_the_sums_of_their_cells(bat, runs: int) -> None:  
         cell_and_node_forces(points + u[:, :3], shells.cells, shells.state.history,
                              shells.constants, shells.product,
                              (shells.chunk_start, shells.chunk_kind), shells.corners,
-                             shells.shared, out, n_runs)  # fmt: skip
+                             shells.corner_kinds(n_runs), shells.shared, out, n_runs)  # fmt: skip
         return out
 
     sizes = np.diff(CorotationalShellForces(points, mesh.cells, section).chunk_start)
