@@ -122,14 +122,14 @@ CHUNK = 64
 # A chunk's work array ``w`` holds one row per quantity and one column per cell (structure of
 # arrays, row r of column col at [r * CHUNK + col], the rows constant: LLVM then sees that the
 # loops over the columns carry no dependence and vectorises them): the current frame E's rows,
-# the corners' cosines, the 24
-# deformational dofs (dof k of corner a at row W_D + dof(a, k), k = 0..2 the displacements,
-# 3..5 the rotations; later the global forces), the 24 local forces (alike from W_F), and the
-# corners' squared sines. Before the local forces are made, the rows from W_F on hold what the
-# cells' corners are gathered into: corner a's current coordinate k at row W_X + 3 a + k and
-# its total rotation's entry (i, j) at row W_R + 9 a + 3 i + j. The corners' reference
-# positions are read from the chunk's constants where they are needed, not copied here: at 85
-# rows the array (42.5 KiB) fits a 48 KiB first-level data cache (benchmarks/RESULTS.md).
+# the corners' cosines, the 24 deformational dofs (dof k of corner a at row W_D + dof(a, k),
+# k = 0..2 the displacements, 3..5 the rotations; later the global forces), the 24 local forces
+# (alike from W_F), and the corners' squared sines. Before the local forces are made, the rows
+# from W_F on hold what the cells' corners are gathered into: corner a's current coordinate k
+# at row W_X + 3 a + k and its total rotation's entry (i, j) at row W_R + 9 a + 3 i + j. The
+# corners' reference positions are read from the chunk's constants where they are needed, not
+# copied here: at 85 rows the array (42.5 KiB) fits a 48 KiB first-level data cache
+# (benchmarks/RESULTS.md).
 W_FRAME, W_COS, W_D, W_F, W_SINE2 = 0, 9, 13, 37, 61
 W_X, W_R, W_ROWS = 37, 49, 85
 #: Rows of a chunk's constants (``CorotationalShellForces.constants``): the undeformed frame E0
@@ -218,10 +218,10 @@ def frame_row_times(e: Vec3, w: np.ndarray, a: int, col: int) -> Vec3:
 def deformation(constants: np.ndarray, w: np.ndarray, col: int) -> None:
     """Column ``col`` of the work array, from its corners gathered (:func:`gather_corners`) and
     the chunk's ``constants`` (C_ROWS * CHUNK,): the corners' deformational displacements
-    (local frame), the current frame's rows, and, of each corner's
-    rotation in the frames, E R_a E0^T, the cosine and the sine vector s (the axial vector of
-    the skew part, in the rotation rows, which :func:`rotation_vectors` turns into the rotation
-    vector). Every load and store is a row of a column: a SIMD loop over the columns."""
+    (local frame), the current frame's rows, and, of each corner's rotation in the frames,
+    E R_a E0^T, the cosine and the sine vector s (the axial vector of the skew part, in the
+    rotation rows, which :func:`rotation_vectors` turns into the rotation vector). Every load
+    and store is a row of a column: a SIMD loop over the columns."""
     x0, x1 = load3(w, W_X, col), load3(w, W_X + 3, col)
     x2, x3 = load3(w, W_X + 6, col), load3(w, W_X + 9, col)
     e1, e2, e3 = element_frame(x0, x1, x2, x3)
@@ -246,8 +246,8 @@ def deformation(constants: np.ndarray, w: np.ndarray, col: int) -> None:
 def corner_deformation(frame: tuple, m: Vec3, frame0: tuple, constants: np.ndarray,
                        w: np.ndarray, a: int, col: int) -> None:  # fmt: skip
     """Corner ``a`` of :func:`deformation`: its deformational displacement and rotation's
-    cosine and sine vector, with the current ``frame`` E, centroid ``m`` and the
-    undeformed frame ``frame0`` E0."""
+    cosine and sine vector, with the current ``frame`` E, centroid ``m`` and the undeformed
+    frame ``frame0`` E0."""
     e1, e2, e3 = frame
     f0, f1, f2 = frame0
     ref = load3(constants, C_REF + 3 * a, col)
@@ -506,8 +506,8 @@ def cell_and_node_forces(points: np.ndarray, cells: np.ndarray, rotations: np.nd
     (:func:`node_corners`) where each node's corners are, ``kinds`` (:func:`corner_kinds`, for
     the same ``n_runs``) how each corner reaches its node. The chunks run in one parallel loop,
     in ``n_runs`` runs of consecutive chunks (:func:`run_count`; one a thread: the caller
-    passes :func:`numba.get_num_threads`, as a kernel that calls it is not cached). A run adds each
-    corner's forces into its node as soon as the chunk has made them, if the node's corners
+    passes :func:`numba.get_num_threads`, as a kernel that calls it is not cached). A run adds
+    each corner's forces into its node as soon as the chunk has made them, if the node's corners
     are all in the run; the corners of the few nodes that two runs share go to ``shared``
     (n_chunks, 24 * CHUNK) and are summed after the loop. Either way each node's sum runs over
     its corners in cell order, so the forces are the same on any number of threads.
