@@ -86,6 +86,9 @@ def main() -> None:
         env = child_environment(args.cpu, args.vector_bits, cache)
         out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                              text=True, check=False)  # fmt: skip
+    if "is not a recognized processor" in out.stderr:
+        raise SystemExit(f"--cpu {args.cpu}: not a CPU this LLVM knows; expected a name of "
+                         "`llc -mcpu=help`, as znver3, znver5 or sapphirerapids")  # fmt: skip
     if out.returncode != 0:
         raise SystemExit(f"compiling for --cpu {args.cpu}: {out.stderr.strip().splitlines()[-1]}")
     lines = [json.loads(line) for line in out.stdout.splitlines() if line.startswith("{")]
