@@ -168,15 +168,27 @@ def column_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray,
             tilt_force[n, 3, k] = slide * (x[k] - xa[k] - 2.0 * s * t[k]) / length2
 
 
+@nb.njit(inline="always")
+def pushes(force: np.ndarray, n: int) -> bool:
+    """Whether slave n's force (a row of ``force``, (n_slaves, 3)) is not exactly zero (a NaN
+    is not): only then has its pair forces to add. A slave without one (its pair open: the
+    penalty, hence every force of :func:`column_penalty_forces`, is zero) adds only zeros to
+    sums that start at +0, which changes none of them, so the scatters skip it."""
+    return force[n, 0] != 0.0 or force[n, 1] != 0.0 or force[n, 2] != 0.0
+
+
 @nb.njit(cache=True)
 def scatter_turning_forces(master_rings: np.ndarray, column: np.ndarray, ring: np.ndarray,
-                           weight_b: np.ndarray, slave_nodes: np.ndarray,
+                           weight_b: np.ndarray, slave_nodes: np.ndarray, slave_force: np.ndarray,
                            tilt_force: np.ndarray, forces: np.ndarray) -> None:  # fmt: skip
     """Add the forces of the normal's turning and of the closest point's motion
     (``tilt_force``, :func:`column_penalty_forces`) to ``forces`` (n_points, 3) in one serial
-    pass; the push itself is added by :func:`scatter_column_shares`."""
+    pass, for the slaves that push (``slave_force``, :func:`pushes`); the push itself is added
+    by :func:`scatter_column_shares`."""
     n_around = master_rings.shape[1]
     for n in range(slave_nodes.shape[0]):
+        if not pushes(slave_force, n):
+            continue
         r, j, s = ring[n], column[n], weight_b[n]
         left, right = (j - 1) % n_around, (j + 1) % n_around
         a, b = master_rings[r, j], master_rings[r + 1, j]
@@ -304,8 +316,11 @@ def scatter_friction_moments(slave_nodes: np.ndarray, master_rings: np.ndarray,
 def scatter_column_shares(slave_nodes: np.ndarray, master_rings: np.ndarray, column: np.ndarray,
                           ring: np.ndarray, weight_b: np.ndarray, slave_force: np.ndarray,
                           forces: np.ndarray) -> None:  # fmt: skip
-    """Add a force on each slave and its opposite, shared (1 - s, s), on its column's point."""
+    """Add a force on each slave and its opposite, shared (1 - s, s), on its column's point
+    (the slaves with none skipped: :func:`pushes`)."""
     for n in range(slave_nodes.shape[0]):
+        if not pushes(slave_force, n):
+            continue
         a, b = master_rings[ring[n], column[n]], master_rings[ring[n] + 1, column[n]]
         for k in range(3):
             forces[slave_nodes[n], k] += slave_force[n, k]
@@ -377,7 +392,8 @@ class ColumnContact:
         scatter_column_shares(self.slave_nodes, self.master_rings, self.column, self.ring,
                               self.weight_b, self.slave_force, forces)  # fmt: skip
         scatter_turning_forces(self.master_rings, self.column, self.ring, self.weight_b,
-                               self.slave_nodes, self.tilt_force, forces)  # fmt: skip
+                               self.slave_nodes, self.slave_force, self.tilt_force,
+                               forces)  # fmt: skip
         if self.friction > 0.0:
             spin = self.rotation_step if self.rotation_step is not None else self.no_rotation
             column_friction_forces(points, self.slave_nodes, self.master_rings, self.column,
