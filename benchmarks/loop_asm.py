@@ -32,6 +32,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from batball.numerics import WIDTH_FEATURES
+
 #: What the child process prints: one JSON line per loop.
 CHILD = """
 import json, sys
@@ -59,9 +61,8 @@ for name, loop in loops.items():
 
 def features(vector_bits: int) -> str:
     """The feature string given with the CPU name: the CPU's own features (LLVM's table for the
-    name), with batball's choice of width on a CPU with AVX-512 (``-prefer-256-bit`` for 512
-    bits, ``+prefer-256-bit`` for 256; the latter changes nothing on an AVX2 CPU)."""
-    return "-prefer-256-bit" if vector_bits == 512 else "+prefer-256-bit"
+    name), with batball's choice of width (``numerics.WIDTH_FEATURES``)."""
+    return WIDTH_FEATURES[str(vector_bits)]
 
 
 def child_environment(cpu: str, vector_bits: int, cache: str) -> dict[str, str]:

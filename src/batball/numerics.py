@@ -26,6 +26,10 @@ FASTMATH = {"nsz", "arcp", "contract", "afn"}
 #: default) or "256".
 VECTOR_WIDTH_VARIABLE = "BATBALL_VECTOR_WIDTH"
 
+#: The LLVM feature that gives each width (bits, as the variable spells it) on a CPU with
+#: AVX-512; on a CPU without it, "+prefer-256-bit" changes nothing.
+WIDTH_FEATURES = {"512": "-prefer-256-bit", "256": "+prefer-256-bit"}
+
 
 def set_vector_width() -> str | None:
     """Set the SIMD width LLVM vectorises with on a CPU with AVX-512 (512-bit, or 256-bit where
@@ -54,7 +58,7 @@ def set_vector_width() -> str | None:
     host = binding.get_host_cpu_features()
     if not host.get("avx512f", False):
         return None
-    features = host.flatten() + (",-prefer-256-bit" if choice == "512" else ",+prefer-256-bit")
+    features = host.flatten() + "," + WIDTH_FEATURES[choice]
     nb.config.CPU_FEATURES = features  # type: ignore[attr-defined]
     # so that Numba's reload of its configuration from the environment keeps it, and so that
     # worker processes (calibration pools, Dask) compile the same code

@@ -172,8 +172,9 @@ def column_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray,
 def pushes(force: np.ndarray, n: int) -> bool:
     """Whether slave n's force (a row of ``force``, (n_slaves, 3)) is not exactly zero (a NaN
     is not): only then has its pair forces to add. A slave without one (its pair open: the
-    penalty, hence every force of :func:`column_penalty_forces`, is zero) adds only zeros to
-    sums that start at +0, which changes none of them, so the scatters skip it."""
+    penalty, hence every force of :func:`column_penalty_forces`, is zero) would add only zeros,
+    which change no sum (at most a -0 to +0; the coupled solver's sums start at +0 and never
+    reach -0), so the scatters skip it."""
     return force[n, 0] != 0.0 or force[n, 1] != 0.0 or force[n, 2] != 0.0
 
 

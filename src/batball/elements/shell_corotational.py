@@ -392,9 +392,15 @@ ADD, FIRST, SHARED = 0, 1, 2
 @nb.njit(inline="always")
 def run_count(n_runs: int, n_chunks: int) -> int:
     """The runs of consecutive chunks the chunks are split into, given ``n_runs`` asked for: at
-    least one, at most one a chunk; run r holds chunks r n_chunks // runs to (r + 1) n_chunks //
-    runs."""
+    least one, at most one a chunk (:func:`run_start`)."""
     return max(1, min(n_runs, n_chunks))
+
+
+@nb.njit(inline="always")
+def run_start(run: int, runs: int, n_chunks: int) -> int:
+    """The first chunk of run ``run`` of ``runs`` (:func:`run_count`); run r holds chunks
+    run_start(r) to run_start(r + 1) - 1."""
+    return run * n_chunks // runs
 
 
 def corner_kinds(cells: np.ndarray, chunk_start: np.ndarray, corners: tuple,
@@ -405,8 +411,8 @@ def corner_kinds(cells: np.ndarray, chunk_start: np.ndarray, corners: tuple,
     :func:`node_corners`: the chunks of the node's first and last corner), else FIRST for the
     node's first corner, else ADD. Taken once a number of runs, not in every call."""
     n_chunks = chunk_start.size - 1
-    runs = run_count.py_func(n_runs, n_chunks)  # the same rule, in Python
-    bounds = np.arange(runs + 1) * n_chunks // runs
+    runs = run_count.py_func(n_runs, n_chunks)  # the same rules, in Python
+    bounds = np.array([run_start.py_func(r, runs, n_chunks) for r in range(runs + 1)])
     run = np.searchsorted(bounds, np.arange(n_chunks), side="right") - 1
     cell_run = np.repeat(run, np.diff(chunk_start))
     begin, end = bounds[cell_run][:, None], bounds[cell_run + 1][:, None]
@@ -518,7 +524,7 @@ def cell_and_node_forces(points: np.ndarray, cells: np.ndarray, rotations: np.nd
     n_chunks = chunk_kind.shape[0]
     n_runs = run_count(n_runs, n_chunks)
     for run in nb.prange(n_runs):
-        begin, end = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
+        begin, end = run_start(run, n_runs, n_chunks), run_start(run + 1, n_runs, n_chunks)
         for t in range(begin, end):
             kind = chunk_kind[t]
             chunk_forces(points, cells, rotations, constants[t], stiffness[kind],
@@ -526,7 +532,7 @@ def cell_and_node_forces(points: np.ndarray, cells: np.ndarray, rotations: np.nd
                          shared[t], out)  # fmt: skip
     flat = shared.ravel()
     for run in range(n_runs):  # the nodes two runs share, and those of no cell
-        begin, end = run * n_chunks // n_runs, (run + 1) * n_chunks // n_runs
+        begin, end = run_start(run, n_runs, n_chunks), run_start(run + 1, n_runs, n_chunks)
         for i in range(node_start[begin], node_start[end]):
             if first_chunk[nodes[i]] < begin:
                 gather_node(nodes[i], corner_start, corner_slot, flat, out)

@@ -21,6 +21,8 @@ from pathlib import Path
 
 import pytest
 
+from batball.numerics import WIDTH_FEATURES
+
 SRC = str(Path(__file__).resolve().parents[3] / "src")
 
 #: The child's start: import a kernel's module, and check that no batball function was compiled
@@ -93,8 +95,8 @@ def assembly(kernel: str, cpu: str, features: str, cache: Path) -> str:
 
 
 TARGETS = [
-    ("znver3", "+prefer-256-bit", "ymm", "zmm"),  # AVX2 only: the AMD EPYC hosts
-    ("sapphirerapids", "-prefer-256-bit", "zmm", None),  # batball's 512-bit setting
+    ("znver3", WIDTH_FEATURES["256"], "ymm", "zmm"),  # AVX2 only: the AMD EPYC hosts
+    ("sapphirerapids", WIDTH_FEATURES["512"], "zmm", None),  # batball's 512-bit setting
 ]
 
 
