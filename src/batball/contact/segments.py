@@ -68,70 +68,68 @@ def segment_boxes(points: np.ndarray, segments: np.ndarray, grow: np.ndarray) ->
 
 
 @nb.njit(cache=True)
-def bucket_index(position: np.ndarray, origin: np.ndarray, size: float, dims: np.ndarray) -> int:
-    """Flat index of the bucket holding ``position`` (clamped to the grid)."""
-    index = 0
+def bucket_grid(boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, np.ndarray]:
+    """The grid of buckets over the boxes (n_boxes >= 1, (lo xyz, hi xyz) rows): the lowest
+    corner of the boxes, their highest, the buckets' side (the largest box side, enlarged to
+    cover the boxes in at most 256 buckets an axis) and the buckets along each axis."""
+    origin, top = boxes[0, :3].copy(), boxes[0, 3:].copy()
+    size = boxes[0, 3] - boxes[0, 0]
+    for s in range(boxes.shape[0]):
+        for k in range(3):
+            origin[k] = min(origin[k], boxes[s, k])
+            top[k] = max(top[k], boxes[s, 3 + k])
+            size = max(size, boxes[s, 3 + k] - boxes[s, k])
+    dims = np.empty(3, dtype=np.int64)
     for k in range(3):
-        i = int(np.floor((position[k] - origin[k]) / size))
-        i = min(max(i, 0), dims[k] - 1)
-        index = index * dims[k] + i
-    return index
+        dims[k] = max(1, min(int(np.ceil((top[k] - origin[k]) / size)), 256))
+    widest = size
+    for k in range(3):
+        widest = max(widest, (top[k] - origin[k]) / dims[k])
+    return origin, top, widest, dims
+
+
+@nb.njit(inline="always")
+def bucket_at(value: float, origin: float, size: float, dim: int) -> int:
+    """The bucket along one axis that holds ``value`` (clamped to the grid)."""
+    return min(max(int(np.floor((value - origin) / size)), 0), dim - 1)
 
 
 @nb.njit(cache=True)
 def fill_buckets(boxes: np.ndarray, origin: np.ndarray, size: float,
                  dims: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
-    """CSR map bucket -> segments whose box overlaps it (two passes: count, then fill)."""
+    """CSR map bucket -> segments whose box overlaps it, each bucket's in segment order (a
+    count, then a fill; each box's range of buckets found once)."""
     n_buckets = dims[0] * dims[1] * dims[2]
+    ranges = np.empty((boxes.shape[0], 6), dtype=np.int64)
     counts = np.zeros(n_buckets + 1, dtype=np.int64)
-    lo_i, hi_i = np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64)
-    for sweep in range(2):
-        if sweep == 1:
-            for b in range(n_buckets):
-                counts[b + 1] += counts[b]
-            entries = np.empty(counts[n_buckets], dtype=np.int64)
-            cursor = counts[:-1].copy()
-        for s in range(boxes.shape[0]):
-            for k in range(3):
-                lo_i[k] = min(max(int(np.floor((boxes[s, k] - origin[k]) / size)), 0), dims[k] - 1)
-                hi_i[k] = min(max(int(np.floor((boxes[s, 3 + k] - origin[k]) / size)), 0),
-                              dims[k] - 1)  # fmt: skip
-            for i in range(lo_i[0], hi_i[0] + 1):
-                for j in range(lo_i[1], hi_i[1] + 1):
-                    for m in range(lo_i[2], hi_i[2] + 1):
-                        b = (i * dims[1] + j) * dims[2] + m
-                        if sweep == 0:
-                            counts[b + 1] += 1
-                        else:
-                            entries[cursor[b]] = s
-                            cursor[b] += 1
+    for s in range(boxes.shape[0]):
+        for k in range(3):
+            ranges[s, k] = bucket_at(boxes[s, k], origin[k], size, dims[k])
+            ranges[s, 3 + k] = bucket_at(boxes[s, 3 + k], origin[k], size, dims[k])
+        for i in range(ranges[s, 0], ranges[s, 3] + 1):
+            for j in range(ranges[s, 1], ranges[s, 4] + 1):
+                for m in range(ranges[s, 2], ranges[s, 5] + 1):
+                    counts[(i * dims[1] + j) * dims[2] + m + 1] += 1
+    for b in range(n_buckets):
+        counts[b + 1] += counts[b]
+    entries = np.empty(counts[n_buckets], dtype=np.int64)
+    cursor = counts[:-1].copy()
+    for s in range(boxes.shape[0]):
+        for i in range(ranges[s, 0], ranges[s, 3] + 1):
+            for j in range(ranges[s, 1], ranges[s, 4] + 1):
+                for m in range(ranges[s, 2], ranges[s, 5] + 1):
+                    b = (i * dims[1] + j) * dims[2] + m
+                    entries[cursor[b]] = s
+                    cursor[b] += 1
     return counts, entries
 
 
-@nb.njit(parallel=True, cache=True)
-def query_buckets(slave_points: np.ndarray, boxes: np.ndarray, origin: np.ndarray, size: float,
-                  dims: np.ndarray, offsets: np.ndarray, entries: np.ndarray,
-                  candidates: np.ndarray, n_candidates: np.ndarray) -> None:  # fmt: skip
-    """Each slave's candidate segments (boxes holding it), written to its own row."""
-    for n in nb.prange(slave_points.shape[0]):
-        x = slave_points[n]
-        b = bucket_index(x, origin, size, dims)
-        count = 0
-        for e in range(offsets[b], offsets[b + 1]):
-            s = entries[e]
-            inside = True
-            for k in range(3):
-                if x[k] < boxes[s, k] or x[k] > boxes[s, 3 + k]:
-                    inside = False
-            if inside and count < candidates.shape[1]:
-                candidates[n, count] = s
-                count += 1
-        n_candidates[n] = count
-
-
+@nb.njit(cache=True)
 def search_candidates(points: np.ndarray, slave_nodes: np.ndarray, segments: np.ndarray,
-                      grow: np.ndarray) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
-    """Candidate segments of every slave node by the bucket search (module docs).
+                      grow: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """Candidate segments of every slave node by the bucket search (module docs), in one
+    compiled pass (the search's NumPy steps between compiled ones had cost more than the
+    search itself).
 
     Args:
         points: (n_points, 3) current coordinates of every node [m].
@@ -139,20 +137,40 @@ def search_candidates(points: np.ndarray, slave_nodes: np.ndarray, segments: np.
         grow: (n_segments,) growth of each box: contact thicknesses plus the search margin [m].
 
     Returns:
-        candidates (n_slaves, MAX_CANDIDATES) segment ids and n_candidates (n_slaves,).
+        candidates (n_slaves, MAX_CANDIDATES) segment ids (each slave's first n_candidates, in
+        segment order), n_candidates (n_slaves,), and the segments that are some slave's
+        candidate (sorted).
     """
-    boxes = segment_boxes(points, segments, grow)
-    size = float(np.max(boxes[:, 3:] - boxes[:, :3]))
-    origin = boxes[:, :3].min(axis=0)
-    extent = boxes[:, 3:].max(axis=0) - origin
-    dims = np.maximum(1, np.minimum(np.ceil(extent / size).astype(np.int64), 256))
-    size = float(max(size, np.max(extent / dims)))
-    offsets, entries = fill_buckets(boxes, origin, size, dims)
     candidates = np.zeros((slave_nodes.size, MAX_CANDIDATES), dtype=np.int64)
     n_candidates = np.zeros(slave_nodes.size, dtype=np.int64)
-    query_buckets(points[slave_nodes], boxes, origin, size, dims, offsets, entries, candidates,
-                  n_candidates)  # fmt: skip
-    return candidates, n_candidates
+    taken = np.zeros(segments.shape[0], dtype=np.bool_)
+    if segments.shape[0] == 0:
+        return candidates, n_candidates, np.flatnonzero(taken)
+    boxes = segment_boxes(points, segments, grow)
+    origin, top, size, dims = bucket_grid(boxes)
+    offsets, entries = fill_buckets(boxes, origin, size, dims)
+    for n in range(slave_nodes.size):
+        x = points[slave_nodes[n]]
+        # outside the boxes' hull no box holds the node (a NaN goes on, as before)
+        if (x[0] < origin[0] or x[1] < origin[1] or x[2] < origin[2]
+                or x[0] > top[0] or x[1] > top[1] or x[2] > top[2]):  # fmt: skip
+            continue
+        b = 0
+        for k in range(3):
+            b = b * dims[k] + bucket_at(x[k], origin[k], size, dims[k])
+        count = 0
+        for e in range(offsets[b], offsets[b + 1]):
+            s = entries[e]
+            inside = True
+            for k in range(3):
+                if x[k] < boxes[s, k] or x[k] > boxes[s, 3 + k]:
+                    inside = False
+            if inside and count < MAX_CANDIDATES:
+                candidates[n, count] = s
+                taken[s] = True
+                count += 1
+        n_candidates[n] = count
+    return candidates, n_candidates, np.flatnonzero(taken)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -403,13 +421,9 @@ class SegmentContact:
     def search(self, points: np.ndarray) -> None:
         """Refresh every slave's candidate segments (bucket search)."""
         grow = self.segment_thickness + self.slave_thickness.max(initial=0.0) + self.margin
-        with threads_for_work(self.slave_nodes.size * MAX_CANDIDATES,
-                              parallel_min_work=PARALLEL_MIN_WORK):  # fmt: skip
-            self.candidates, self.n_candidates = search_candidates(
-                points, self.slave_nodes, self.segments, grow
-            )
-        taken = np.arange(MAX_CANDIDATES) < self.n_candidates[:, None]
-        self.active_segments = np.unique(self.candidates[taken])
+        self.candidates, self.n_candidates, self.active_segments = search_candidates(
+            points, self.slave_nodes, self.segments, grow
+        )
 
     def add_forces(self, points: np.ndarray, forces: np.ndarray) -> int:
         """Add this contact's forces to ``forces`` (n_points, 3) [N]; returns slaves touching."""

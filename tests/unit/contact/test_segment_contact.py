@@ -28,6 +28,8 @@ def flat_sheet(n: int, size: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def test_bucket_search_finds_every_box_holding_a_node() -> None:
+    """Against a brute-force check of every box: each node's candidates in segment order, and
+    the segments that are some node's candidate."""
     rng = np.random.default_rng(3)
     sheet, cells = flat_sheet(12, 0.01)
     sheet[:, 2] = 0.002 * rng.standard_normal(len(sheet))  # a warped sheet
@@ -35,14 +37,20 @@ def test_bucket_search_finds_every_box_holding_a_node() -> None:
     points = np.vstack([sheet, nodes])
     slaves = np.arange(len(sheet), len(points))
     grow = np.full(len(cells), 0.003)
-    candidates, counts = search_candidates(points, slaves, cells, grow)
+    candidates, counts, active = search_candidates(points, slaves, cells, grow)
     boxes = segment_boxes(points, cells, grow)
+    union: set[int] = set()
+    outside = 0
     for row, node in enumerate(slaves):
         x = points[node]
         inside = np.all((x >= boxes[:, :3]) & (x <= boxes[:, 3:]), axis=1)
         expected = set(np.flatnonzero(inside))
         assert len(expected) <= MAX_CANDIDATES
-        assert set(candidates[row, : counts[row]]) == expected
+        assert list(candidates[row, : counts[row]]) == sorted(expected)
+        union |= expected
+        outside += not np.all((x >= boxes[:, :3].min(axis=0)) & (x <= boxes[:, 3:].max(axis=0)))
+    assert outside > 50  # nodes beyond every box: the search skips them
+    assert list(active) == sorted(union)  # the segments any node may touch, once each
 
 
 def sheet_contact(points: np.ndarray, cells: np.ndarray, slaves: np.ndarray, *, two_sided: bool,
