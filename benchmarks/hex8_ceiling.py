@@ -153,8 +153,8 @@ def main() -> None:
     wide = wide_vectors()
     register, lanes = ("zmm", 16) if wide else ("ymm", 8)
     block = hb.element_block_viscous  # compiled alone here (the kernel inlines it)
-    block(w.copy(), state.history[0].copy(), hb.BLOCK, float(state.dt), 1.5, 0.06, 0.1)
-    signature = next(s for s in block.signatures if s[0].dtype == nb.float32)
+    signature = hb.element_block_types(np.float32)
+    block.compile(signature)
     loop = vector_loop(block.inspect_asm(signature), register)
     if not loop:
         raise SystemExit(f"no one-block loop on {register} registers in the element loop's "

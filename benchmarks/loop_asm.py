@@ -38,16 +38,14 @@ from batball.numerics import WIDTH_FEATURES
 CHILD = """
 import json, sys
 import numba as nb
-from numba import types
+import numpy as np
 sys.path.insert(0, {benchmarks!r})
 from element_loop_ab import load_variant
 from hex8_ceiling import instruction_mix, vector_loop
 from batball.elements import hex8_block as hb
 
 register, lanes = {register!r}, {lanes}
-array = types.Array(types.float32, 1, "C")
-signature = (array, array, types.int64, types.float64, types.float64, types.float64,
-             types.float64)
+signature = hb.element_block_types(np.float32)
 loops = {{"present": hb.element_block_viscous}}
 loops.update({{spec: load_variant(spec) for spec in {variants!r}}})
 print(json.dumps({{"cpu": nb.config.CPU_NAME, "features": nb.config.CPU_FEATURES}}))

@@ -86,6 +86,16 @@ def check_precision(precision: str) -> None:
         raise SpecError("precision", precision, " or ".join(map(repr, PRECISIONS)))
 
 
+def element_block_types(dtype: type) -> tuple[types.Type, ...]:
+    """The Numba types the kernel calls an element loop (``element_block_*``) with, for a block
+    scratch and history row of ``dtype`` (np.float32 or np.float64): (w, history, n, dt, q1,
+    q2, hg_coefficient). What compiles the loop alone, as the kernel inlines it, for reading
+    its machine code."""
+    array = types.Array(nb.from_dtype(np.dtype(dtype)), 1, "C")
+    return (array, array, types.int64, types.float64, types.float64, types.float64,
+            types.float64)  # fmt: skip
+
+
 def history_rows(n_terms: int) -> int:
     """Rows of one block's history for a material of ``n_terms`` Prony terms."""
     return N_CORE_ROWS + N_HOURGLASS_ROWS + 6 * (n_terms - 1)

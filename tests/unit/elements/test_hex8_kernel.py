@@ -25,6 +25,7 @@ from batball.elements.hex8_block import (
     R_V,
     R_X,
     RUN,
+    element_block_types,
     element_block_viscous,
     gather_nodes,
     history_rows,
@@ -338,6 +339,7 @@ def test_single_precision_element_loop_is_packed_single() -> None:
     history = np.ones(history_rows(1) * BLOCK, dtype=np.float32)
     element_block_viscous(w, history, BLOCK, 1e-7, 1.5, 0.06, 0.1)
     signature = next(s for s in element_block_viscous.signatures if str(s[0].dtype) == "float32")
+    assert signature == element_block_types(np.float32)  # what reads the loop alone compiles
     asm = element_block_viscous.inspect_asm(signature)
     single = re.findall(r"\tv?(?:add|sub|mul|div|f[n]?m(?:add|sub)\d*)ps\s", asm)
     double = re.findall(r"\tv?(?:add|sub|mul|div|f[n]?m(?:add|sub)\d*)pd\s", asm)

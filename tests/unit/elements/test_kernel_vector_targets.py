@@ -43,9 +43,7 @@ assert not ran, f"compiled at import (would run code built for another CPU): {{r
 HEX = (
     IMPORT.format(module="hex8_block")
     + """
-from numba import types
-array = types.Array(types.float32, 1, "C")
-signature = (array, array, types.int64, types.float64, types.float64, types.float64, types.float64)
+signature = kernels.element_block_types(np.float32)
 kernel = kernels.element_block_viscous
 """
 )
