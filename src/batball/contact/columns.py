@@ -88,8 +88,9 @@ def cross(u: Vec3, v: Vec3) -> Vec3:
 
 @nb.njit(inline="always", fastmath=FASTMATH)
 def point(points: np.ndarray, n: int) -> Vec3:
-    """Node ``n``'s position as a 3-tuple."""
-    return points[n, 0], points[n, 1], points[n, 2]
+    """Node ``n``'s position as a 3-tuple (an unsigned row: no negative-index check)."""
+    row = np.uint64(n)
+    return points[row, 0], points[row, 1], points[row, 2]
 
 
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
@@ -192,17 +193,22 @@ def scatter_turning_forces(master_rings: np.ndarray, column: np.ndarray, ring: n
             continue
         r, j, s = ring[n], column[n], weight_b[n]
         left, right = (j - 1) % n_around, (j + 1) % n_around
-        a, b = master_rings[r, j], master_rings[r + 1, j]
+        # the nodes as unsigned rows: no negative-index check on each access
+        slave = np.uint64(slave_nodes[n])
+        a, b = np.uint64(master_rings[r, j]), np.uint64(master_rings[r + 1, j])
+        a_right, a_left = np.uint64(master_rings[r, right]), np.uint64(master_rings[r, left])
+        b_right = np.uint64(master_rings[r + 1, right])
+        b_left = np.uint64(master_rings[r + 1, left])
         for k in range(3):
             along, around = tilt_force[n, 0, k], tilt_force[n, 1, k]
             on_slave, on_b = tilt_force[n, 2, k], tilt_force[n, 3, k]
-            forces[slave_nodes[n], k] += on_slave
+            forces[slave, k] += on_slave
             forces[a, k] += -along - on_slave - on_b
             forces[b, k] += along + on_b
-            forces[master_rings[r, right], k] += (1.0 - s) * around
-            forces[master_rings[r, left], k] -= (1.0 - s) * around
-            forces[master_rings[r + 1, right], k] += s * around
-            forces[master_rings[r + 1, left], k] -= s * around
+            forces[a_right, k] += (1.0 - s) * around
+            forces[a_left, k] -= (1.0 - s) * around
+            forces[b_right, k] += s * around
+            forces[b_left, k] -= s * around
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -322,9 +328,11 @@ def scatter_column_shares(slave_nodes: np.ndarray, master_rings: np.ndarray, col
     for n in range(slave_nodes.shape[0]):
         if not pushes(slave_force, n):
             continue
-        a, b = master_rings[ring[n], column[n]], master_rings[ring[n] + 1, column[n]]
+        slave = np.uint64(slave_nodes[n])  # unsigned rows: no negative-index checks
+        a = np.uint64(master_rings[ring[n], column[n]])
+        b = np.uint64(master_rings[ring[n] + 1, column[n]])
         for k in range(3):
-            forces[slave_nodes[n], k] += slave_force[n, k]
+            forces[slave, k] += slave_force[n, k]
             forces[a, k] -= (1.0 - weight_b[n]) * slave_force[n, k]
             forces[b, k] -= weight_b[n] * slave_force[n, k]
 
