@@ -54,7 +54,7 @@ from batball.elements.shell_stiffness import (
     element_frames,
     local_stiffness,
 )
-from batball.elements.vector_math import gather_columns
+from batball.elements.vector_math import gather_columns, interleave_rows, subtract_record
 from batball.errors import SimulationError
 from batball.numerics import FASTMATH
 
@@ -422,14 +422,25 @@ def corner_kinds(cells: np.ndarray, chunk_start: np.ndarray, corners: tuple,
     return np.where(shared, SHARED, np.where(first, FIRST, ADD)).astype(np.int8).ravel()
 
 
-@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
-def corner_forces(w: np.ndarray, a: int, col: int) -> tuple:
-    """Corner ``a``'s six global forces and moments in column ``col`` (the work array's dof rows
-    from W_D), dof 0..5 (unsigned offsets: no negative-index wraparound)."""
-    at, group = np.uint64((W_D + a) * CHUNK + col), np.uint64(4 * CHUNK)
-    # rows dof(a, 0..5): groups 0, 1, 4, 2, 3, 5 (DOF_GROUP)
-    return (w[at], w[at + group], w[at + np.uint64(4) * group], w[at + np.uint64(2) * group],
-            w[at + np.uint64(3) * group], w[at + np.uint64(5) * group])  # fmt: skip
+#: Columns :func:`scatter_chunk` turns into records at once (CHUNK is a multiple of it).
+RECORD_COLUMNS = 4
+
+
+@nb.njit(inline="always")
+def corner_rows(a: int, col: int) -> tuple:
+    """The offsets (unsigned) of column ``col`` of corner ``a``'s six global forces and moments
+    in the work array, dof 0..5 (rows W_D + dof(a, k))."""
+    return (np.uint64((W_D + dof(a, 0)) * CHUNK + col), np.uint64((W_D + dof(a, 1)) * CHUNK + col),
+            np.uint64((W_D + dof(a, 2)) * CHUNK + col), np.uint64((W_D + dof(a, 3)) * CHUNK + col),
+            np.uint64((W_D + dof(a, 4)) * CHUNK + col),
+            np.uint64((W_D + dof(a, 5)) * CHUNK + col))  # fmt: skip
+
+
+@nb.njit(inline="always")
+def corner_record(a: int, col: int) -> np.uint64:
+    """Where corner ``a`` of column ``col`` has its six global forces and moments as one
+    record (:func:`scatter_chunk`): the rows from W_F, which the local forces have left."""
+    return np.uint64(W_F * CHUNK + 6 * (a * CHUNK + col))
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -441,27 +452,29 @@ def scatter_chunk(w: np.ndarray, cells: np.ndarray, first: int, stop: int, kinds
     (n_points, 6), the first corner's setting it (0 - f), the next ones' subtracted, so in cell
     order; a node whose corners two runs make gets its corners stored in the chunk's ``shared``
     (24 * CHUNK,), dof k of column col at [k * CHUNK + col], for :func:`gather_node` after the
-    parallel loop. The node's six values at one unsigned offset of a flat view: indexed by
-    (node, dof), each access had its own negative-index check, and the scatter took 1.4 times
-    as long."""
-    flat, one, row = out.reshape(-1), np.uint64(1), np.uint64(CHUNK)
+    parallel loop.
+
+    Each corner's six values are first made one record of the work array (rows to records,
+    RECORD_COLUMNS columns at a time: :func:`vector_math.interleave_rows`), so that a node's
+    update is two vector loads, subtractions and stores (:func:`vector_math.subtract_record`)
+    at one unsigned offset of a flat view of ``out``. Read row by row and indexed by (node,
+    dof), each value had its own load, subtraction, store and negative-index check.
+    """
+    for col in range(0, CHUNK, RECORD_COLUMNS):
+        for a in range(4):
+            interleave_rows(w, corner_rows(a, col), corner_record(a, col), RECORD_COLUMNS)
+    flat, row = out.reshape(-1), np.uint64(CHUNK)
     for col in range(stop - first):
         c = first + col
         for a in range(4):
-            f = corner_forces(w, a, col)
+            at = corner_record(a, col)
             kind = kinds[np.uint64(4 * c + a)]
             if kind == SHARED:
-                at = np.uint64(6 * a * CHUNK + col)
+                into = np.uint64(6 * a * CHUNK + col)
                 for k in range(6):
-                    shared[at + np.uint64(k) * row] = f[k]
+                    shared[into + np.uint64(k) * row] = w[at + np.uint64(k)]
                 continue
-            at = np.uint64(6) * np.uint64(cells[c, a])
-            if kind == FIRST:
-                for k in range(6):
-                    flat[at + np.uint64(k) * one] = 0.0 - f[k]
-            else:
-                for k in range(6):
-                    flat[at + np.uint64(k) * one] -= f[k]
+            subtract_record(flat, np.uint64(6) * np.uint64(cells[c, a]), w, at, kind != FIRST)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, error_model="numpy")

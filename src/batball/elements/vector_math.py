@@ -271,6 +271,92 @@ gather_columns = cast(
 )
 
 
+def _joined(builder: ir.IRBuilder, vectors: list[ir.Value]) -> ir.Value:
+    """LLVM IR: equal vectors concatenated in order, padded with undefined ones to a power of
+    two (a tree of shuffles)."""
+    level = list(vectors)
+    while len(level) & (len(level) - 1):
+        level.append(ir.Constant(vectors[0].type, ir.Undefined))
+    while len(level) > 1:
+        whole = shuffle_mask(list(range(2 * level[0].type.count)))
+        level = [builder.shuffle_vector(level[i], level[i + 1], whole)
+                 for i in range(0, len(level), 2)]  # fmt: skip
+    return level[0]
+
+
+@intrinsic
+def _interleave_rows(typingctx, w, rows, target, lanes):  # noqa: ANN001, ANN202
+    """``w[target + F c + k] = w[rows[k] + c]`` for c < lanes and each of the F offsets of
+    ``rows`` (a tuple of uint64) in a float64 array: ``lanes`` columns of F rows of a work array
+    as ``lanes`` records of F consecutive values, the reverse of :func:`gather_columns`. Each
+    row is loaded as one vector and the records stored as one, interleaved by a shuffle, which
+    LLVM lowers to unpack and permute instructions (``lanes`` a compile-time constant; the
+    rows and the records must not overlap)."""
+    double = types.Array(types.float64, 1, "C")
+    if (
+        w != double
+        or not isinstance(rows, types.UniTuple)
+        or rows.dtype != types.uint64
+        or target != types.uint64
+        or not isinstance(lanes, types.IntegerLiteral)
+    ):
+        return None
+
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        data = context.make_array(signature.args[0])(context, builder, value=args[0]).data
+        n_rows, n_lanes = signature.args[1].count, lanes.literal_value
+        row_type = ir.VectorType(ir.DoubleType(), n_lanes)
+        loaded = []
+        for k in range(n_rows):
+            at = builder.gep(data, [builder.extract_value(args[1], k)])
+            loaded.append(builder.load(builder.bitcast(at, row_type.as_pointer()), align=8))
+        joined = _joined(builder, loaded)
+        order = [k * n_lanes + c for c in range(n_lanes) for k in range(n_rows)]
+        records = builder.shuffle_vector(joined, joined, shuffle_mask(order))
+        pointer = builder.bitcast(builder.gep(data, [args[2]]), records.type.as_pointer())
+        builder.store(records, pointer, align=8)
+        return context.get_dummy_value()
+
+    return types.none(w, rows, target, lanes), codegen
+
+
+#: Typed view of the intrinsic for mypy (the same object for Numba).
+interleave_rows = cast("Callable[[np.ndarray, tuple, np.uint64, int], None]", _interleave_rows)
+
+
+@intrinsic
+def _subtract_record(typingctx, flat, into, w, at, keep):  # noqa: ANN001, ANN202
+    """``flat[into + k] = (flat[into + k] if keep else 0) - w[at + k]`` for k < 6 (float64
+    arrays, unsigned offsets) as two vector loads, subtractions and stores (4 + 2 values)."""
+    double = types.Array(types.float64, 1, "C")
+    if flat != double or w != double or into != types.uint64 or at != types.uint64 \
+            or keep != types.boolean:  # fmt: skip
+        return None
+
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        target = context.make_array(double)(context, builder, value=args[0]).data
+        source = context.make_array(double)(context, builder, value=args[2]).data
+        keep_bit = context.cast(builder, args[4], types.boolean, types.boolean)
+        for first, count in ((0, 4), (4, 2)):
+            kind = ir.VectorType(ir.DoubleType(), count)
+            offset = ir.IntType(64)(first)
+            t = builder.bitcast(builder.gep(target, [builder.add(args[1], offset)]),
+                                kind.as_pointer())  # fmt: skip
+            f = builder.load(builder.bitcast(builder.gep(source, [builder.add(args[3], offset)]),
+                                             kind.as_pointer()), align=8)  # fmt: skip
+            old = builder.load(t, align=8)
+            zero = ir.Constant(kind, [ir.DoubleType()(0.0)] * count)
+            base = builder.select(builder.trunc(keep_bit, ir.IntType(1)), old, zero)
+            builder.store(builder.fsub(base, f), t, align=8)
+        return context.get_dummy_value()
+
+    return types.none(flat, into, w, at, keep), codegen
+
+
+subtract_record = cast("Callable[[np.ndarray, np.uint64, np.ndarray, np.uint64, bool], None]",
+                       _subtract_record)  # fmt: skip
+
+
 @nb.njit(inline="always", fastmath=FASTMATH)
 def _log_special(x: float) -> float:
     """ln x where x is not positive and finite: NaN, -inf at 0, +inf at +inf."""

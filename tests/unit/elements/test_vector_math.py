@@ -29,7 +29,9 @@ from batball.elements.vector_math import (
     _uint_float,
     cbrt,
     gather_columns,
+    interleave_rows,
     log,
+    subtract_record,
 )
 from batball.numerics import FASTMATH
 
@@ -273,3 +275,45 @@ def test_gather_columns_matches_numpy(count: int) -> None:
     assert np.array_equal(rows[:second_count, 6:14], nodal[nodes, :second_count].T)
     assert np.isnan(rows[:, :2]).all() and np.isnan(rows[:, 14:]).all()
     assert np.isnan(rows[first_count:, 2:6]).all() and np.isnan(rows[second_count:, 6:14]).all()
+
+
+@nb.njit
+def _records(w, rows, target):  # noqa: ANN001, ANN202
+    u = np.uint64
+    six = (u(rows[0]), u(rows[1]), u(rows[2]), u(rows[3]), u(rows[4]), u(rows[5]))
+    interleave_rows(w, six, u(target), 4)
+    interleave_rows(w, (u(rows[0] + 4), u(rows[1] + 4)), u(target + 24), 2)
+
+
+def test_interleave_rows_makes_records_of_columns() -> None:
+    # w[target + F c + k] = w[rows[k] + c]: F rows (in any order) of a work array, column by
+    # column, as records; nothing else written
+    rng = np.random.default_rng(6)
+    w = rng.standard_normal(200)
+    before = w.copy()
+    rows = np.array([0, 48, 16, 8, 40, 24])  # six rows of 8 columns, not in order
+    _records(w, rows, 100)
+    expected = np.array([[before[r + c] for r in rows] for c in range(4)]).ravel()
+    assert np.array_equal(w[100:124], expected)
+    assert np.array_equal(w[124:128], [before[4], before[52], before[5], before[53]])
+    assert np.array_equal(w[:100], before[:100]) and np.array_equal(w[128:], before[128:])
+
+
+@nb.njit
+def _subtract_all(flat, offsets, w, at, keep):  # noqa: ANN001, ANN202
+    for i in range(offsets.size):
+        subtract_record(flat, np.uint64(offsets[i]), w, np.uint64(at[i]), keep[i])
+
+
+def test_subtract_record_matches_numpy() -> None:
+    # flat[into:into + 6] = (flat[into:into + 6] or 0) - w[at:at + 6], in order
+    rng = np.random.default_rng(7)
+    flat, w = rng.standard_normal(60), rng.standard_normal(40)
+    offsets, at = np.array([6, 18, 6, 37]), np.array([0, 6, 12, 30])
+    keep = np.array([False, True, True, True])
+    expected = flat.copy()
+    for into, source, kept in zip(offsets, at, keep, strict=True):
+        base = expected[into : into + 6] if kept else 0.0
+        expected[into : into + 6] = base - w[source : source + 6]
+    _subtract_all(flat, offsets, w, at, keep)
+    assert np.array_equal(flat, expected)
