@@ -8,8 +8,9 @@ docs/physics.md section 6.6.
 
 * Search: every master segment's bounding box, grown by the contact thickness and a margin, is
   binned into a uniform grid of buckets (cell size about the largest box); each slave node looks
-  in its own bucket and keeps the segments whose box holds it. The search costs O(n_slaves +
-  n_segments) and is repeated every few cycles; the margin covers the travel in between.
+  in its own bucket and keeps the segments whose box holds it (a node outside the hull of all
+  the boxes is not looked up). The search costs O(n_slaves + n_segments), runs as one compiled
+  pass and is repeated every few cycles; the margin covers the travel in between.
 * Projection: a slave node x is projected on a segment's plane (centroid c, unit normal n from
   the diagonals); its bilinear coordinates (xi, eta) come from two Newton steps in the plane. It
   touches the segment when |xi|, |eta| <= 1 + a small tolerance (neighbouring segments overlap a
