@@ -11,8 +11,13 @@ with its element loop at that rate, and with both:
   its node gather (``hex8_block.gather_nodes``), its force scatter (``scatter_forces``), the
   material factors and the volumes and steps copied (``gather_material``, ``scatter_outputs``),
   each alone over all blocks; the element loop (``element_block``) is the kernel less those;
-  the rest of the cycle (contact, step, update, records) from the solver's own phase clock over
-  full cycles of a second solver. The parts alternate in rounds; each figure is the median;
+  the whole cycle from full cycles of a second solver in the solvers' own compiled loop
+  (``explicit_kernels.run_cycles``, as a run takes them), and the rest of the cycle (contact,
+  step, update, records) as the cycle less the kernel. The parts alternate in rounds; each
+  figure is the median. The kernel, too, runs in a compiled loop: called from Python with its
+  arrays it took 18 us a call more, and the rest of the cycle, timed by the solver's own phase
+  clock (called from Python with its two dozen arrays), 68 us where the loops give 31-38 (the
+  Intel Xeon of 2026-12-07);
 * the element loop's instructions, read from its assembly (compiled alone here; the kernel
   inlines the same function): the one-block loop with the most instructions on the widest
   vector register, split into vector floating-point instructions (arithmetic, FMA, division,
@@ -36,16 +41,20 @@ from __future__ import annotations
 import argparse
 import re
 import statistics
+import time
 from collections.abc import Callable
 
 import numba as nb
 import numpy as np
-from bench_hex8_kernel import kernel_call, loaded_solver, one_thread_arguments, seconds_per_call
+from bench_hex8_kernel import loaded_solver, one_thread_arguments, seconds_per_call
+from numba import types
 from yardstick import gemm_gflops
 
 from batball.elements import hex8_block as hb
 from batball.elements.hex8 import kernel_ids
 from batball.numerics import wide_vectors
+from batball.solvers import explicit_kernels as kern
+from batball.solvers.explicit import ExplicitSolver
 
 #: The goal of the CCOR solver: hex element-cycles per second per GFLOP/s of SGEMM.
 GOAL = 2e5
@@ -113,6 +122,43 @@ def instruction_mix(loop: list[list[str]], register: str) -> dict[str, int]:
     }
 
 
+@nb.njit
+def _kernel_calls(kernel: Callable, arguments: tuple, controls: tuple, dt: float,
+                  calls: int) -> None:  # fmt: skip
+    """``calls`` calls of the element kernel as the solvers' compiled loop makes them."""
+    for _ in range(calls):
+        kernel(*arguments, (dt, *controls))
+
+
+def kernel_loop(solver: ExplicitSolver) -> Callable[[int], None]:
+    """A call that runs the solver's element kernel a given number of times in a compiled loop,
+    through the kernel's address as ``explicit_kernels.run_cycles`` calls it: called from
+    Python, each call would add the typing of its arguments (tens of microseconds)."""
+    kernel, arguments, controls = solver.kernel_call()
+    dt = float(solver.state.dt)
+    signature = types.none(*(nb.typeof(a) for a in arguments), nb.typeof((dt, *controls)))
+    kernel.compile(signature.args)  # type: ignore[attr-defined]
+    loop = _kernel_calls.compile((types.FunctionType(signature), nb.typeof(arguments),
+                                  nb.typeof(controls), types.float64, types.int64))  # fmt: skip
+    return lambda calls: loop(kernel, arguments, controls, dt, calls)
+
+
+def seconds_per_cycle(solver: ExplicitSolver, cycles: int) -> float:
+    """Wall seconds a cycle of ``solver`` over ``cycles`` cycles in the solvers' compiled loop
+    (:func:`batball.solvers.explicit_kernels.run_cycles`: the kernel, then contact, step,
+    update and the history row), as :meth:`ExplicitSolver.run` takes them."""
+    kernel, arguments, controls = solver.kernel_call()
+    table = np.zeros((cycles, solver.work.row_width))
+    start = time.perf_counter()
+    status, rows = kern.run_cycles(kernel, arguments, controls, solver.finish_arguments(), table,
+                                   0, np.inf, np.inf, 0)  # fmt: skip
+    seconds = time.perf_counter() - start
+    if status < 0 or rows != cycles:
+        raise SystemExit(f"the solver stopped after {rows} of {cycles} cycles (status {status}): "
+                         "fewer --cycles before, or fewer --calls")  # fmt: skip
+    return seconds / cycles
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     args = one_thread_arguments(parser, 40, 100, 5)
@@ -126,24 +172,29 @@ def main() -> None:
     forces = np.zeros_like(xs)
     volume, step = np.empty(n_cells), np.empty(n_cells)
     material = kernel_ids(work.cell_material)
-    kernel = kernel_call(solver)
+    kernel = kernel_loop(solver)
     parts: dict[str, Callable[[], object]] = {
-        "kernel": kernel,
         "gather": lambda: _gather_all(w, xs, vs, cells, n_cells),
         "scatter": lambda: _scatter_all(w, cells, forces, n_cells),
         "copies": lambda: _copies_all(w, material, factors, volume, step, n_cells),
     }
-    times: dict[str, list[float]] = {name: [] for name in [*parts, "rest of cycle"]}
+    times: dict[str, list[float]] = {name: [] for name in ["kernel", *parts, "cycle"]}
     sgemms = []
+    seconds_per_cycle(cycling, 2)  # the loop typed (or compiled) once
+    kernel(2)
     for _ in range(args.rounds):
         sgemms.append(gemm_gflops(1)["sgemm"])
+        start = time.perf_counter()
+        kernel(args.calls)
+        times["kernel"].append((time.perf_counter() - start) / args.calls)
         for name, call in parts.items():
             times[name].extend(seconds_per_call(call, args.calls, 1))
-        cycling.phase_seconds["rest_of_cycle"] = 0.0
-        for _ in range(args.calls):
-            cycling.cycle()
-        times["rest of cycle"].append(cycling.phase_seconds["rest_of_cycle"] / args.calls)
+        times["cycle"].append(seconds_per_cycle(cycling, args.calls))
     t = {name: statistics.median(values) for name, values in times.items()}
+    t["rest of cycle"] = t["cycle"] - t["kernel"]
+    if t["rest of cycle"] <= 0.0:
+        raise SystemExit("the whole cycle took less than the kernel alone: the host's load "
+                         "changed within a round; run again")  # fmt: skip
     t["element loop"] = t["kernel"] - t["gather"] - t["scatter"] - t["copies"]
     if t["element loop"] <= 0.0:
         raise SystemExit("the kernel took less than its gather, scatter and copies alone: the "
@@ -172,7 +223,7 @@ def main() -> None:
     print(f"  element loop, {lanes} cells an iteration: {counts}")
     print(f"  element loop at the FMA rate: {bound * 1e6:.1f} us a cycle "
           f"({bound / t['element loop']:.0%} of its measured time)")  # fmt: skip
-    cycle = t["kernel"] + t["rest of cycle"]
+    cycle = t["cycle"]
     moves = t["gather"] + t["scatter"] + t["copies"]
     at_peak = cycle - t["element loop"] + bound
     for label, seconds in (
