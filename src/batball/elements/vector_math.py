@@ -190,18 +190,27 @@ def component_rows(
             for i in range(3)]  # fmt: skip
 
 
+def _joined(builder: ir.IRBuilder, vectors: list[ir.Value]) -> ir.Value:
+    """LLVM IR: equal vectors concatenated in order, padded with undefined ones to a power of
+    two (a tree of shuffles)."""
+    level = list(vectors)
+    while len(level) & (len(level) - 1):
+        level.append(ir.Constant(vectors[0].type, ir.Undefined))
+    while len(level) > 1:
+        whole = shuffle_mask(list(range(2 * level[0].type.count)))
+        level = [builder.shuffle_vector(level[i], level[i + 1], whole)
+                 for i in range(0, len(level), 2)]  # fmt: skip
+    return level[0]
+
+
 def _joined_pairs(builder: ir.IRBuilder, bases: list[ir.Value], at: int) -> ir.Value:
     """The pairs of doubles at ``base + at`` of each base, concatenated in order into one
     <2 L x double> (a tree of shuffles, which LLVM lowers to lane inserts)."""
     pair = ir.VectorType(ir.DoubleType(), 2)
     offset = ir.IntType(64)(at)
-    level = [builder.load(builder.bitcast(builder.gep(b, [offset]), pair.as_pointer()), align=8)
+    pairs = [builder.load(builder.bitcast(builder.gep(b, [offset]), pair.as_pointer()), align=8)
              for b in bases]  # fmt: skip
-    while len(level) > 1:  # concatenated: (c_at, c_at+1) of vector 0, then of vector 1...
-        joined = shuffle_mask(list(range(2 * level[0].type.count)))
-        level = [builder.shuffle_vector(level[i], level[i + 1], joined)
-                 for i in range(0, len(level), 2)]  # fmt: skip
-    return level[0]
+    return _joined(builder, pairs)  # (c_at, c_at+1) of vector 0, then of vector 1...
 
 
 def transposed_lanes(
@@ -269,19 +278,6 @@ def _gather_columns(typingctx, w, index, stride, flat, offsets, count):  # noqa:
 gather_columns = cast(
     "Callable[[np.ndarray, np.uint64, np.uint64, np.ndarray, tuple, int], None]", _gather_columns
 )
-
-
-def _joined(builder: ir.IRBuilder, vectors: list[ir.Value]) -> ir.Value:
-    """LLVM IR: equal vectors concatenated in order, padded with undefined ones to a power of
-    two (a tree of shuffles)."""
-    level = list(vectors)
-    while len(level) & (len(level) - 1):
-        level.append(ir.Constant(vectors[0].type, ir.Undefined))
-    while len(level) > 1:
-        whole = shuffle_mask(list(range(2 * level[0].type.count)))
-        level = [builder.shuffle_vector(level[i], level[i + 1], whole)
-                 for i in range(0, len(level), 2)]  # fmt: skip
-    return level[0]
 
 
 @intrinsic
