@@ -124,11 +124,12 @@ CHUNK = 64
 # loops over the columns carry no dependence and vectorises them): the current frame E's rows,
 # the corners' cosines, the 24 deformational dofs (dof k of corner a at row W_D + dof(a, k),
 # k = 0..2 the displacements, 3..5 the rotations; later the global forces), the 24 local forces
-# (alike from W_F), and the corners' squared sines. Before the local forces are made, the rows
-# from W_F on hold what the cells' corners are gathered into: corner a's current coordinate k
-# at row W_X + 3 a + k and its total rotation's entry (i, j) at row W_R + 9 a + 3 i + j. The
-# corners' reference positions are read from the chunk's constants where they are needed, not
-# copied here: at 85 rows the array (42.5 KiB) fits a 48 KiB first-level data cache
+# (alike from W_F; once turned to global axes, the same rows hold the scatter's records,
+# :func:`corner_record`), and the corners' squared sines. Before the local forces are made, the
+# rows from W_F on hold what the cells' corners are gathered into: corner a's current
+# coordinate k at row W_X + 3 a + k and its total rotation's entry (i, j) at row W_R + 9 a +
+# 3 i + j. The corners' reference positions are read from the chunk's constants where they are
+# needed, not copied here: at 85 rows the array (42.5 KiB) fits a 48 KiB first-level data cache
 # (benchmarks/RESULTS.md).
 W_FRAME, W_COS, W_D, W_F, W_SINE2 = 0, 9, 13, 37, 61
 W_X, W_R, W_ROWS = 37, 49, 85
