@@ -47,7 +47,8 @@ from batball.numerics import FASTMATH, threads_for_work
 EDGE_TOLERANCE = 0.02
 #: Most candidate segments kept per slave node.
 MAX_CANDIDATES = 24
-#: Candidate checks of one search or force pass below which it runs on one thread (numerics).
+#: Candidate checks of one force pass below which it runs on one thread (numerics; the search
+#: is one serial pass).
 PARALLEL_MIN_WORK = 200_000
 
 
