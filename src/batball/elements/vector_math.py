@@ -332,7 +332,6 @@ def _subtract_record(typingctx, flat, into, w, at, keep):  # noqa: ANN001, ANN20
     def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
         target = context.make_array(double)(context, builder, value=args[0]).data
         source = context.make_array(double)(context, builder, value=args[2]).data
-        keep_bit = context.cast(builder, args[4], types.boolean, types.boolean)
         for first, count in ((0, 4), (4, 2)):
             kind = ir.VectorType(ir.DoubleType(), count)
             offset = ir.IntType(64)(first)
@@ -342,13 +341,14 @@ def _subtract_record(typingctx, flat, into, w, at, keep):  # noqa: ANN001, ANN20
                                              kind.as_pointer()), align=8)  # fmt: skip
             old = builder.load(t, align=8)
             zero = ir.Constant(kind, [ir.DoubleType()(0.0)] * count)
-            base = builder.select(builder.trunc(keep_bit, ir.IntType(1)), old, zero)
+            base = builder.select(args[4], old, zero)  # keep: a boolean, i1
             builder.store(builder.fsub(base, f), t, align=8)
         return context.get_dummy_value()
 
     return types.none(flat, into, w, at, keep), codegen
 
 
+#: Typed view of the intrinsic for mypy (the same object for Numba).
 subtract_record = cast("Callable[[np.ndarray, np.uint64, np.ndarray, np.uint64, bool], None]",
                        _subtract_record)  # fmt: skip
 
