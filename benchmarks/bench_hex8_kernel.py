@@ -2,9 +2,10 @@
 
 Builds the 95 mph CCOR model of a ball (type 1, MAT_006, by default), runs a few dozen explicit
 cycles so that the stresses and hourglass forces are non-trivial, then times the ball's element
-kernel alone (after a warm-up call; the median and the best of several repeats) with 1 thread and
-with 2 (or every) threads: ``compute_hex8_forces``, or for a foam ball (``--ball type1-fit``, the
-model of record's) the foam kernel (``hex8_foam``, always double precision). Usage:
+kernel alone (in a compiled loop, as the solvers call it, after a warm-up call; the median and
+the best of several repeats) with 1 thread and with 2 (or every) threads:
+``compute_hex8_forces``, or for a foam ball (``--ball type1-fit``, the model of record's) the
+foam kernel (``hex8_foam``, always double precision). Usage:
 
     python benchmarks/bench_hex8_kernel.py [--ball type1] [--precision single] [--hourglass 1]
         [--cycles 50] [--calls 50] [--repeats 11]
@@ -18,6 +19,7 @@ import time
 from collections.abc import Callable
 
 import numba
+from numba import types
 from yardstick import cpu_description
 
 from batball.models.impact import ImpactSetup, build_impact_model
@@ -42,20 +44,37 @@ def loaded_solver(
     return solver
 
 
-def kernel_call(solver: ExplicitSolver) -> Callable[[], None]:
-    """One call of the ball's element kernel on the solver's arrays, as its cycles make it
-    (``ExplicitSolver.element_forces``: the hex kernel, or a foam ball's)."""
-    return solver.element_forces
+@numba.njit
+def _kernel_calls(kernel: Callable, arguments: tuple, controls: tuple, dt: float,
+                  calls: int) -> None:  # fmt: skip
+    """``calls`` calls of the element kernel as the solvers' compiled loop makes them."""
+    for _ in range(calls):
+        kernel(*arguments, (dt, *controls))
 
 
-def seconds_per_call(call: Callable[[], None], calls: int, repeats: int) -> list[float]:
-    """Mean wall time of ``calls`` back-to-back calls, ``repeats`` times [s]."""
-    call()  # warm-up (and compilation)
+def kernel_loop(solver: ExplicitSolver) -> Callable[[int], None]:
+    """A call that runs the solver's element kernel (the hex kernel, or a foam ball's) a given
+    number of times in a compiled loop, through the kernel's address as
+    ``explicit_kernels.run_cycles`` calls it: called from Python, each call would add the
+    typing of its arguments (18 us a call on an Intel Xeon)."""
+    kernel, arguments, controls = solver.kernel_call()
+    dt = float(solver.state.dt)
+    signature = types.none(*(numba.typeof(a) for a in arguments), numba.typeof((dt, *controls)))
+    kernel.compile(signature.args)  # type: ignore[attr-defined]
+    loop = _kernel_calls.compile((types.FunctionType(signature), numba.typeof(arguments),
+                                  numba.typeof(controls), types.float64, types.int64))  # fmt: skip
+    return lambda calls: loop(kernel, arguments, controls, dt, calls)
+
+
+def seconds_per_call(loop: Callable[[int], object], calls: int, repeats: int) -> list[float]:
+    """Mean wall time a call of ``calls`` back-to-back calls, ``repeats`` times [s]: ``loop(n)``
+    makes n calls in a compiled loop (:func:`kernel_loop`), so that the time is the calls'
+    own, not that of Python typing their arguments."""
+    loop(1)  # warm-up (and compilation)
     times = []
     for _ in range(repeats):
         start = time.perf_counter()
-        for _ in range(calls):
-            call()
+        loop(calls)
         times.append((time.perf_counter() - start) / calls)
     return times
 
@@ -91,10 +110,10 @@ def main() -> None:
     solver = loaded_solver(args.hourglass, args.cycles, args.precision, args.ball)
     label = f"{args.ball}, " + ("foam" if solver.model.foam is not None else args.precision)
     n_cells = solver.model.mesh.n_cells
-    call = kernel_call(solver)
+    loop = kernel_loop(solver)
     for threads in sorted({1, min(2, numba.config.NUMBA_NUM_THREADS), numba.get_num_threads()}):
         numba.set_num_threads(threads)
-        times = seconds_per_call(call, args.calls, args.repeats)
+        times = seconds_per_call(loop, args.calls, args.repeats)
         median, best = statistics.median(times), min(times)
         print(f"{label}, IHQ {args.hourglass}, threads {threads}: {n_cells} hexes, "
               f"{median * 1e3:.3f} ms per call (median of {args.repeats} x {args.calls} calls): "

@@ -14,10 +14,10 @@ with its element loop at that rate, and with both:
   the whole cycle from full cycles of a second solver in the solvers' own compiled loop
   (``explicit_kernels.run_cycles``, as a run takes them), and the rest of the cycle (contact,
   step, update, records) as the cycle less the kernel. The parts alternate in rounds; each
-  figure is the median. The kernel, too, runs in a compiled loop: called from Python with its
-  arrays it took 18 us a call more, and the rest of the cycle, timed by the solver's own phase
-  clock (called from Python with its two dozen arrays), 68 us where the loops give 31-38 (the
-  Intel Xeon of 2026-12-07);
+  figure is the median. The kernel and the parts, too, run in compiled loops: called from
+  Python with its arrays the kernel took 18 us a call more, and the rest of the cycle, timed
+  by the solver's own phase clock (called from Python with its two dozen arrays), 68 us where
+  the loops give 31-38 (the Intel Xeon of 2026-12-07);
 * the element loop's instructions, read from its assembly (compiled alone here; the kernel
   inlines the same function): the one-block loop with the most instructions on the widest
   vector register, split into vector floating-point instructions (arithmetic, FMA, division,
@@ -46,8 +46,7 @@ from collections.abc import Callable
 
 import numba as nb
 import numpy as np
-from bench_hex8_kernel import loaded_solver, one_thread_arguments, seconds_per_call
-from numba import types
+from bench_hex8_kernel import kernel_loop, loaded_solver, one_thread_arguments, seconds_per_call
 from yardstick import gemm_gflops
 
 from batball.elements import hex8_block as hb
@@ -67,25 +66,32 @@ _FP = ("vadd", "vsub", "vmul", "vfmadd", "vfmsub", "vfnmadd", "vfnmsub", "vdiv",
        "vpcmp", "vpmul", "vperm", "vshuf", "vunpck")  # fmt: skip
 
 
-@nb.njit
-def _gather_all(w, xs, vs, cells, n_cells):  # noqa: ANN001, ANN202
-    for start in range(0, n_cells, hb.BLOCK):
-        hb.gather_nodes(w, start, min(hb.BLOCK, n_cells - start), xs, vs, cells)
+# Each part over all blocks, ``calls`` times in its compiled loop (as the kernel is timed):
+# called from Python, a call would add the typing of its arrays.
 
 
 @nb.njit
-def _scatter_all(w, cells, forces, n_cells):  # noqa: ANN001, ANN202
-    for start in range(0, n_cells, hb.BLOCK):
-        hb.scatter_forces(w, start, min(hb.BLOCK, n_cells - start), cells, forces)
+def _gather_all(w, xs, vs, cells, n_cells, calls):  # noqa: ANN001, ANN202
+    for _ in range(calls):
+        for start in range(0, n_cells, hb.BLOCK):
+            hb.gather_nodes(w, start, min(hb.BLOCK, n_cells - start), xs, vs, cells)
 
 
 @nb.njit
-def _copies_all(w, cell_material, factors, volume, dt, n_cells):  # noqa: ANN001, ANN202
-    held = -1  # as the kernel calls them: a block of the material w holds is not copied
-    for start in range(0, n_cells, hb.BLOCK):
-        n = min(hb.BLOCK, n_cells - start)
-        held = hb.gather_material(w, start, n, cell_material, factors, held)
-        hb.scatter_outputs(w, start, n, volume, dt)
+def _scatter_all(w, cells, forces, n_cells, calls):  # noqa: ANN001, ANN202
+    for _ in range(calls):
+        for start in range(0, n_cells, hb.BLOCK):
+            hb.scatter_forces(w, start, min(hb.BLOCK, n_cells - start), cells, forces)
+
+
+@nb.njit
+def _copies_all(w, cell_material, factors, volume, dt, n_cells, calls):  # noqa: ANN001, ANN202
+    for _ in range(calls):
+        held = -1  # as the kernel calls them: a block of the material w holds is not copied
+        for start in range(0, n_cells, hb.BLOCK):
+            n = min(hb.BLOCK, n_cells - start)
+            held = hb.gather_material(w, start, n, cell_material, factors, held)
+            hb.scatter_outputs(w, start, n, volume, dt)
 
 
 def vector_loop(asm: str, register: str) -> list[list[str]]:
@@ -122,27 +128,6 @@ def instruction_mix(loop: list[list[str]], register: str) -> dict[str, int]:
     }
 
 
-@nb.njit
-def _kernel_calls(kernel: Callable, arguments: tuple, controls: tuple, dt: float,
-                  calls: int) -> None:  # fmt: skip
-    """``calls`` calls of the element kernel as the solvers' compiled loop makes them."""
-    for _ in range(calls):
-        kernel(*arguments, (dt, *controls))
-
-
-def kernel_loop(solver: ExplicitSolver) -> Callable[[int], None]:
-    """A call that runs the solver's element kernel a given number of times in a compiled loop,
-    through the kernel's address as ``explicit_kernels.run_cycles`` calls it: called from
-    Python, each call would add the typing of its arguments (tens of microseconds)."""
-    kernel, arguments, controls = solver.kernel_call()
-    dt = float(solver.state.dt)
-    signature = types.none(*(nb.typeof(a) for a in arguments), nb.typeof((dt, *controls)))
-    kernel.compile(signature.args)  # type: ignore[attr-defined]
-    loop = _kernel_calls.compile((types.FunctionType(signature), nb.typeof(arguments),
-                                  nb.typeof(controls), types.float64, types.int64))  # fmt: skip
-    return lambda calls: loop(kernel, arguments, controls, dt, calls)
-
-
 def seconds_per_cycle(solver: ExplicitSolver, cycles: int) -> float:
     """Wall seconds a cycle of ``solver`` over ``cycles`` cycles in the solvers' compiled loop
     (:func:`batball.solvers.explicit_kernels.run_cycles`: the kernel, then contact, step,
@@ -172,21 +157,17 @@ def main() -> None:
     forces = np.zeros_like(xs)
     volume, step = np.empty(n_cells), np.empty(n_cells)
     material = kernel_ids(work.cell_material)
-    kernel = kernel_loop(solver)
-    parts: dict[str, Callable[[], object]] = {
-        "gather": lambda: _gather_all(w, xs, vs, cells, n_cells),
-        "scatter": lambda: _scatter_all(w, cells, forces, n_cells),
-        "copies": lambda: _copies_all(w, material, factors, volume, step, n_cells),
+    parts: dict[str, Callable[[int], object]] = {
+        "kernel": kernel_loop(solver),
+        "gather": lambda calls: _gather_all(w, xs, vs, cells, n_cells, calls),
+        "scatter": lambda calls: _scatter_all(w, cells, forces, n_cells, calls),
+        "copies": lambda calls: _copies_all(w, material, factors, volume, step, n_cells, calls),
     }
-    times: dict[str, list[float]] = {name: [] for name in ["kernel", *parts, "cycle"]}
+    times: dict[str, list[float]] = {name: [] for name in [*parts, "cycle"]}
     sgemms = []
     seconds_per_cycle(cycling, 2)  # the loop typed (or compiled) once
-    kernel(2)
     for _ in range(args.rounds):
         sgemms.append(gemm_gflops(1)["sgemm"])
-        start = time.perf_counter()
-        kernel(args.calls)
-        times["kernel"].append((time.perf_counter() - start) / args.calls)
         for name, call in parts.items():
             times[name].extend(seconds_per_call(call, args.calls, 1))
         times["cycle"].append(seconds_per_cycle(cycling, args.calls))
