@@ -128,11 +128,12 @@ CHUNK = 64
 # :func:`corner_record`), and the corners' squared sines. Before the local forces are made, the
 # rows from W_F on hold what the cells' corners are gathered into: corner a's current
 # coordinate k at row W_X + 3 a + k and its total rotation's entry (i, j) at row W_R + 9 a +
-# 3 i + j. The corners' reference positions are read from the chunk's constants where they are
-# needed, not copied here: at 85 rows the array (42.5 KiB) fits a 48 KiB first-level data cache
+# 3 i + j; the centroid's coordinates at rows W_M..W_M + 2 (for :func:`corner_loop`). The
+# corners' reference positions are read from the chunk's constants where they are needed, not
+# copied here: at 88 rows the array (44 KiB) fits a 48 KiB first-level data cache
 # (benchmarks/RESULTS.md).
 W_FRAME, W_COS, W_D, W_F, W_SINE2 = 0, 9, 13, 37, 61
-W_X, W_R, W_ROWS = 37, 49, 85
+W_X, W_R, W_M, W_ROWS = 37, 49, 85, 88
 #: Rows of a chunk's constants (``CorotationalShellForces.constants``): the undeformed frame E0
 #: (row-major) and the corners' reference positions, one column per cell.
 C_FRAME0, C_REF, C_ROWS = 0, 9, 21
@@ -216,31 +217,45 @@ def frame_row_times(e: Vec3, w: np.ndarray, a: int, col: int) -> Vec3:
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
-def deformation(constants: np.ndarray, w: np.ndarray, col: int) -> None:
-    """Column ``col`` of the work array, from its corners gathered (:func:`gather_corners`) and
-    the chunk's ``constants`` (C_ROWS * CHUNK,): the corners' deformational displacements
-    (local frame), the current frame's rows, and, of each corner's rotation in the frames,
-    E R_a E0^T, the cosine and the sine vector s (the axial vector of the skew part, in the
-    rotation rows, which :func:`rotation_vectors` turns into the rotation vector). Every load
-    and store is a row of a column: a SIMD loop over the columns."""
-    x0, x1 = load3(w, W_X, col), load3(w, W_X + 3, col)
-    x2, x3 = load3(w, W_X + 6, col), load3(w, W_X + 9, col)
-    e1, e2, e3 = element_frame(x0, x1, x2, x3)
-    for k in range(3):
-        w[(W_FRAME + k) * CHUNK + col] = e1[k]
-        w[(W_FRAME + 3 + k) * CHUNK + col] = e2[k]
-        w[(W_FRAME + 6 + k) * CHUNK + col] = e3[k]
-    m = (0.25 * (x0[0] + x1[0] + x2[0] + x3[0]), 0.25 * (x0[1] + x1[1] + x2[1] + x3[1]),
-         0.25 * (x0[2] + x1[2] + x2[2] + x3[2]))  # fmt: skip
-    f0 = load3(constants, C_FRAME0, col)
-    f1 = load3(constants, C_FRAME0 + 3, col)
-    f2 = load3(constants, C_FRAME0 + 6, col)
+def deformation(constants: np.ndarray, w: np.ndarray) -> None:
+    """The work array's columns, from their corners gathered (:func:`gather_corners`) and the
+    chunk's ``constants`` (C_ROWS * CHUNK,): the current frame's rows and the centroid, then
+    for each corner its deformational displacements (local frame) and, of its rotation in the
+    frames, E R_a E0^T, the cosine and the sine vector s (the axial vector of the skew part,
+    in the rotation rows, which :func:`rotation_vectors` turns into the rotation vector).
+    Every load and store is a row of a column: SIMD loops over the columns, the frames and
+    centroids first, then one loop a corner (:func:`corner_loop`). As one loop it held E, E0
+    and the centroid through all four corners, more values than AVX2's sixteen vector
+    registers (173 stack moves in an iteration of 644 instructions; benchmarks/RESULTS.md)."""
+    for col in range(CHUNK):
+        x0, x1 = load3(w, W_X, col), load3(w, W_X + 3, col)
+        x2, x3 = load3(w, W_X + 6, col), load3(w, W_X + 9, col)
+        e1, e2, e3 = element_frame(x0, x1, x2, x3)
+        for k in range(3):
+            w[(W_FRAME + k) * CHUNK + col] = e1[k]
+            w[(W_FRAME + 3 + k) * CHUNK + col] = e2[k]
+            w[(W_FRAME + 6 + k) * CHUNK + col] = e3[k]
+        w[W_M * CHUNK + col] = 0.25 * (x0[0] + x1[0] + x2[0] + x3[0])
+        w[(W_M + 1) * CHUNK + col] = 0.25 * (x0[1] + x1[1] + x2[1] + x3[1])
+        w[(W_M + 2) * CHUNK + col] = 0.25 * (x0[2] + x1[2] + x2[2] + x3[2])
     # straight-line code: a loop over the corners here would be the innermost loop that LLVM
     # tries to vectorise, instead of the loop over the columns
-    corner_deformation((e1, e2, e3), m, (f0, f1, f2), constants, w, 0, col)
-    corner_deformation((e1, e2, e3), m, (f0, f1, f2), constants, w, 1, col)
-    corner_deformation((e1, e2, e3), m, (f0, f1, f2), constants, w, 2, col)
-    corner_deformation((e1, e2, e3), m, (f0, f1, f2), constants, w, 3, col)
+    corner_loop(constants, w, 0)
+    corner_loop(constants, w, 1)
+    corner_loop(constants, w, 2)
+    corner_loop(constants, w, 3)
+
+
+@nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
+def corner_loop(constants: np.ndarray, w: np.ndarray, a: int) -> None:
+    """Corner ``a`` of :func:`deformation` in every column."""
+    for col in range(CHUNK):
+        e1, e2 = load3(w, W_FRAME, col), load3(w, W_FRAME + 3, col)
+        e3, m = load3(w, W_FRAME + 6, col), load3(w, W_M, col)
+        f0 = load3(constants, C_FRAME0, col)
+        f1 = load3(constants, C_FRAME0 + 3, col)
+        f2 = load3(constants, C_FRAME0 + 6, col)
+        corner_deformation((e1, e2, e3), m, (f0, f1, f2), constants, w, a, col)
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -493,8 +508,7 @@ def chunk_forces(points: np.ndarray, cells: np.ndarray, rotations: np.ndarray,
     loop's array analysis does not see the frame's tuples."""
     w = np.empty(W_ROWS * CHUNK)
     gather_corners(points, cells, rotations, first, stop, w)
-    for col in range(CHUNK):
-        deformation(constants, w, col)
+    deformation(constants, w)
     rotation_vectors(w, stop - first)
     local_product(stiffness, nonzero, w)
     for col in range(CHUNK):
