@@ -33,8 +33,9 @@ test_shell_corotational.py``); a rigid rotation of any size strains nothing.
 The kernel runs the cells in chunks of up to CHUNK cells of one kind (one shape and section,
 hence one K0), each chunk in one pass through a small work array that stays in cache, and
 adds each corner's forces into its node as soon as the chunk has made them, in cell order (the
-same sums on any number of threads). Only the gather of the corners' positions and rotations
-and that scatter are scalar; every other step is a SIMD loop over the chunk's cells. Cost: a
+same sums on any number of threads). The gather of the corners' positions and rotations and
+that scatter go node by node (each node's values moved by vector loads and stores); every other
+step is a SIMD loop over the chunk's cells. Cost: a
 force evaluation takes 1.2-1.4 times the BT kernel's on the full bat (benchmarks/RESULTS.md).
 """
 
