@@ -1,11 +1,14 @@
 """Settings shared by every Numba kernel.
 
 Importing this module (every kernel module does, before anything is compiled) also picks the SIMD
-width LLVM generates: see :func:`set_vector_width`.
+width LLVM generates (:func:`set_vector_width`) and makes Numba's inlining copy each inlined
+function once rather than block by block (:func:`share_inline_copies`).
 """
 
 from __future__ import annotations
 
+import copy
+import functools
 import os
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -81,6 +84,69 @@ def wide_vectors() -> bool:
     """
     features = os.environ.get("NUMBA_CPU_FEATURES", "").split(",")
     return "+avx512f" in features and "-prefer-256-bit" in features
+
+
+#: Environment variable that leaves Numba's inlining as it is where set to "numba"
+#: (:func:`share_inline_copies`).
+INLINE_COPY_VARIABLE = "BATBALL_INLINE_COPY"
+
+
+class _OneMemoCopy:
+    """Stands in for the ``copy`` module during one call of Numba's ``InlineWorker.inline_ir``:
+    its ``deepcopy`` copies with one memo for all the calls, so the callee's blocks are copied
+    as one graph."""
+
+    def __init__(self) -> None:
+        self.memo: dict[int, object] = {}
+
+    def deepcopy(self, x: object, memo: dict[int, object] | None = None) -> object:
+        return copy.deepcopy(x, self.memo if memo is None else memo)
+
+
+def share_inline_copies() -> bool:
+    """Make Numba copy a function's IR as one graph when it inlines it (``inline="always"``);
+    returns whether it did (False where ``BATBALL_INLINE_COPY=numba`` or where Numba's inliner
+    is not the one this was written for: nothing is changed then).
+
+    Numba inlines a callee by copying its IR (twice: one copy to splice in, one to keep) with
+    a separate ``copy.deepcopy`` for each basic block. Every block's variables refer to the
+    function's one scope, which holds all its variables, so each block's copy copies all the
+    function's variables again: the work grows as blocks times variables, for every inlined
+    call at every level of a tree of inlined helpers (numba/numba issues 8989 and 9204). The
+    kernels here inline deep trees: compiling the hex element loop spent about 40 % of its time
+    in these copies. Within a call of ``inline_ir`` its module's ``copy`` is replaced by
+    :class:`_OneMemoCopy`, so each copy of the callee is one deep copy of all its blocks,
+    sharing what the original shares (the scope once), and the second copy is made from the
+    first as before. The machine code of every kernel is the same either way, instruction for
+    instruction (benchmarks/RESULTS.md, "Compile time"); only the time to make it changes.
+    """
+    if os.environ.get(INLINE_COPY_VARIABLE, "") == "numba":
+        return False
+    from numba.core import inline_closurecall
+
+    worker = getattr(inline_closurecall, "InlineWorker", None)
+    inline_ir = getattr(worker, "inline_ir", None)
+    if inline_closurecall.__dict__.get("copy") is not copy or inline_ir is None:
+        return False
+    if getattr(inline_ir, "_batball_one_memo", False):
+        return True
+
+    @functools.wraps(inline_ir)
+    def one_memo_inline_ir(*args: object, **kwargs: object) -> object:
+        previous = inline_closurecall.copy
+        inline_closurecall.copy = _OneMemoCopy()  # type: ignore[assignment]
+        try:
+            return inline_ir(*args, **kwargs)
+        finally:
+            inline_closurecall.copy = previous
+
+    one_memo_inline_ir._batball_one_memo = True  # type: ignore[attr-defined]
+    worker.inline_ir = one_memo_inline_ir  # type: ignore[union-attr]
+    return True
+
+
+#: Whether :func:`share_inline_copies` changed Numba's inliner on import.
+INLINE_COPIES_SHARED = share_inline_copies()
 
 
 @contextmanager

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from batball.numerics import wide_vectors
@@ -21,3 +22,90 @@ from batball.numerics import wide_vectors
 def test_wide_vectors_follows_the_feature_string(monkeypatch, features: str, wide: bool) -> None:
     monkeypatch.setenv("NUMBA_CPU_FEATURES", features)
     assert wide_vectors() is wide
+
+
+# Numba's inlining copy (batball.numerics.share_inline_copies): a small tree of inlined helpers,
+# with branches and loops so that the callees have several blocks, compiled once with the
+# one-graph copy and once with Numba's own.
+
+
+def _helpers() -> tuple:
+    import numba
+
+    @numba.njit(inline="always")
+    def leaf(x: float, k: int) -> float:
+        return x * k if k % 2 else x - k
+
+    @numba.njit(inline="always")
+    def middle(a: np.ndarray, i: int) -> float:
+        s = 0.0
+        for k in range(3):
+            s += leaf(a[i], k) if a[i] > 0 else leaf(-a[i], k + 1)
+        return s
+
+    def kernel(a: np.ndarray) -> np.ndarray:
+        out = np.empty_like(a)
+        for i in range(a.size):
+            out[i] = middle(a, i) + leaf(a[i], i)
+        return out
+
+    return kernel
+
+
+def _instructions(dispatcher: object) -> list[str]:
+    """The mnemonics of the compiled function's machine code (names, which carry per-process
+    hashes, left out)."""
+    (signature,) = dispatcher.signatures  # type: ignore[attr-defined]
+    asm = dispatcher.inspect_asm(signature)  # type: ignore[attr-defined]
+    return [line.split()[0] for line in asm.splitlines() if line.startswith("\t") and
+            not line.startswith("\t.")]  # fmt: skip
+
+
+def test_inlined_code_is_the_same_with_the_one_graph_copy(monkeypatch) -> None:
+    import numba
+    from numba.core import inline_closurecall
+
+    from batball import numerics
+
+    assert numerics.INLINE_COPIES_SHARED  # on the Numba the project pins
+    copies = []
+    one_memo = numerics._OneMemoCopy.deepcopy
+
+    def counted(self: object, x: object, memo: object = None) -> object:
+        copies.append(id(self))
+        return one_memo(self, x, memo)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(numerics._OneMemoCopy, "deepcopy", counted)
+    worker = inline_closurecall.InlineWorker
+    shared = worker.inline_ir
+    a = np.array([1.5, -2.0, 0.25, 3.0, -0.5])
+    ours = numba.njit(_helpers())
+    ours(a)
+    # each inlined call (leaf twice in middle, middle and leaf in kernel) copied its callee's
+    # blocks through one memo
+    assert len(set(copies)) == 4 and len(copies) > 8
+    worker.inline_ir = shared.__wrapped__  # Numba's own, block by block
+    try:
+        numbas = numba.njit(_helpers())
+        expected = numbas(a)
+    finally:
+        worker.inline_ir = shared
+    got = ours(a)
+    np.testing.assert_array_equal(got, _helpers()(a))  # as plain Python computes it
+    np.testing.assert_array_equal(got, expected)
+    assert _instructions(ours) == _instructions(numbas)
+
+
+@pytest.mark.parametrize(("value", "shared"), [(None, True), ("numba", False)])
+def test_batball_inline_copy_numba_leaves_numbas_inliner(value: str | None, shared: bool) -> None:
+    import os
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k != "BATBALL_INLINE_COPY"}
+    if value is not None:
+        env["BATBALL_INLINE_COPY"] = value
+    code = "import batball.numerics as n; print(n.INLINE_COPIES_SHARED)"
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                          text=True, check=True)  # fmt: skip
+    assert done.stdout.strip() == str(shared)
