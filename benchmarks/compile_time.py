@@ -46,7 +46,6 @@ shells(mesh.points, np.zeros((mesh.n_points, 6)), 1e-7, np.zeros((mesh.n_points,
 
 TIMED = """
 import json, time
-start = time.perf_counter()
 import batball.numerics
 imported = time.perf_counter()
 exec(compile({code!r}, "kernel", "exec"))

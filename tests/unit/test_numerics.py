@@ -4,6 +4,7 @@ copying each inlined function as one graph (:func:`batball.numerics.share_inline
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -32,7 +33,8 @@ def test_wide_vectors_follows_the_feature_string(monkeypatch, features: str, wid
 # one-graph copy and once with Numba's own.
 
 
-def _helpers() -> tuple:
+def _helpers() -> Callable[[np.ndarray], np.ndarray]:
+    """A fresh (uncompiled) kernel calling its own fresh inlined helpers."""
     import numba
 
     @numba.njit(inline="always")
