@@ -86,8 +86,8 @@ def wide_vectors() -> bool:
     return "+avx512f" in features and "-prefer-256-bit" in features
 
 
-#: Environment variable that leaves Numba's inlining as it is where set to "numba"
-#: (:func:`share_inline_copies`).
+#: Environment variable choosing how Numba's inliner copies a function: "graph" (the default, one
+#: copy of all its blocks) or "numba" (Numba's own, block by block; :func:`share_inline_copies`).
 INLINE_COPY_VARIABLE = "BATBALL_INLINE_COPY"
 
 
@@ -120,7 +120,10 @@ def share_inline_copies() -> bool:
     first as before. The machine code of every kernel is the same either way, instruction for
     instruction (benchmarks/RESULTS.md, "Compile time"); only the time to make it changes.
     """
-    if os.environ.get(INLINE_COPY_VARIABLE, "") == "numba":
+    choice = os.environ.get(INLINE_COPY_VARIABLE, "graph")
+    if choice not in ("graph", "numba"):
+        raise SpecError(f"environment variable {INLINE_COPY_VARIABLE}", choice, "graph or numba")
+    if choice == "numba":
         return False
     from numba.core import inline_closurecall
 

@@ -115,3 +115,15 @@ def test_batball_inline_copy_numba_leaves_numbas_inliner(value: str | None, shar
     done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                           text=True, check=True)  # fmt: skip
     assert done.stdout.strip() == str(shared)
+
+
+def test_another_batball_inline_copy_is_refused_by_name() -> None:
+    import subprocess
+    import sys
+
+    env = {**os.environ, "BATBALL_INLINE_COPY": "off"}
+    done = subprocess.run([sys.executable, "-c", "import batball.numerics"], env=env,
+                          capture_output=True, text=True)  # fmt: skip
+    assert done.returncode != 0
+    last = done.stderr.strip().splitlines()[-1]
+    assert "BATBALL_INLINE_COPY" in last and "'off'" in last and "graph or numba" in last
