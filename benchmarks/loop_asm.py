@@ -17,9 +17,16 @@ host; to time the AVX2 loop on an AVX-512 host (as a proxy: its ports are not a 
 
 ``--vector-bits`` is the width batball gives LLVM (``batball.numerics.set_vector_width``): 512
 on a CPU with AVX-512 unless ``BATBALL_VECTOR_WIDTH=256``; a CPU without AVX-512 has only 256.
-A variant is ``path/to/file.py:name``, as for ``element_loop_ab.py``. Usage:
+``--mca`` also runs LLVM's machine-code analyser (``llvm-mca``, from the system's LLVM, not
+installed by batball) on each loop for ``--mca-cpu`` (default ``--cpu``; an older llvm-mca may
+not know the newest names, and models some, as ``sapphirerapids``, on an older core's ports): the
+cycles an iteration it predicts in a steady state, the bound from its ports' throughput alone,
+the share of the predicted cycles it puts on port pressure and on chains of dependent
+instructions, and the busiest ports. A model, not a measurement: it knows no cache misses and
+a simplified out-of-order engine. A variant is ``path/to/file.py:name``, as for
+``element_loop_ab.py``. Usage:
 
-    python benchmarks/loop_asm.py [--cpu znver3] [--vector-bits 256] [VARIANT ...]
+    python benchmarks/loop_asm.py [--cpu znver3] [--vector-bits 256] [--mca] [VARIANT ...]
 """
 
 from __future__ import annotations
@@ -27,10 +34,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
+import shutil
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
+from typing import NamedTuple
 
 from batball.numerics import WIDTH_FEATURES
 
@@ -53,8 +63,11 @@ for name, loop in loops.items():
     loop.compile(signature)
     body = vector_loop(loop.inspect_asm(signature), register)
     mix = instruction_mix(body, register) if body else {{}}
-    print(json.dumps({{"loop": name, "mix": mix}}))
+    print(json.dumps({{"loop": name, "mix": mix, "body": body}}))
 """
+
+#: Iterations of the loop llvm-mca simulates.
+MCA_ITERATIONS = 100
 
 
 def features(vector_bits: int) -> str:
@@ -72,11 +85,63 @@ def child_environment(cpu: str, vector_bits: int, cache: str) -> dict[str, str]:
     }
 
 
+class McaView(NamedTuple):
+    """What llvm-mca predicts for a loop: cycles an iteration, the bound from its ports alone,
+    the shares of the cycles it puts on port pressure and on dependency chains [%], and the
+    busiest resources (cycles an iteration, name)."""
+
+    cycles: float
+    bound: float
+    pressure: float
+    dependencies: float
+    busiest: list[tuple[float, str]]
+
+
+def mca(body: list[list[str]], cpu: str) -> McaView:
+    """llvm-mca's view of the loop ``body`` (instructions as ``vector_loop`` gives them) on
+    ``cpu``: cycles an iteration, the ports' bound, the bottleneck shares and the busiest
+    resources (name, cycles an iteration)."""
+    tool = shutil.which("llvm-mca")
+    if tool is None:
+        raise SystemExit("--mca: llvm-mca is not on PATH (it comes with LLVM, as Debian's "
+                         "llvm package); run without --mca")  # fmt: skip
+    text = "".join(f"\t{op}\t{' '.join(rest)}\n" for op, *rest in body)
+    out = subprocess.run([tool, f"-mcpu={cpu}", f"-iterations={MCA_ITERATIONS}",
+                          "-bottleneck-analysis"], input=text, capture_output=True, text=True,
+                         check=False)  # fmt: skip
+    if out.returncode != 0 or "not a recognized processor" in out.stderr:
+        raise SystemExit(f"--mca-cpu {cpu}: llvm-mca failed or does not know the CPU "
+                         f"({(out.stderr.strip().splitlines() or ['no message'])[0]})")  # fmt: skip
+    report = out.stdout
+
+    def number(label: str) -> float:
+        found = re.search(rf"{label}:?\s*\[?\s*([0-9.]+)", report)
+        if found is None:
+            raise SystemExit(f"--mca: no '{label}' in llvm-mca's report")
+        return float(found.group(1))
+
+    names = re.findall(r"^\[([0-9.]+)\]\s+-\s+(\S+)", report, flags=re.MULTILINE)
+    pressure = report.split("Resource pressure per iteration:", 1)[1].splitlines()[2].split()
+    # a unit of several (as "[12.0] - Zn3FPP45") is named with its index
+    loads = sorted(((float(value), f"{name}[{index}]" if "." in index else name)
+                    for (index, name), value in zip(names, pressure, strict=True)
+                    if value != "-"), reverse=True)  # fmt: skip
+    return McaView(
+        number("Total Cycles") / MCA_ITERATIONS,
+        number("Block RThroughput"),
+        number("Resource Pressure"),
+        number("Data Dependencies"),
+        loads[:4],
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("variants", nargs="*", help="path/to/file.py:name")
     parser.add_argument("--cpu", default="znver3", help="an LLVM CPU name (llc -mcpu=help)")
     parser.add_argument("--vector-bits", type=int, choices=(256, 512), default=256)
+    parser.add_argument("--mca", action="store_true", help="llvm-mca's view of each loop")
+    parser.add_argument("--mca-cpu", help="the CPU model llvm-mca takes (default --cpu)")
     args = parser.parse_args()
     register, lanes = ("zmm", 16) if args.vector_bits == 512 else ("ymm", 8)
     code = CHILD.format(benchmarks=str(Path(__file__).resolve().parent), register=register,
@@ -105,6 +170,14 @@ def main() -> None:
                              if key not in ("instructions", "vector"))  # fmt: skip
         print(f"  {loop['loop']}: {mix['instructions']} instructions an iteration; a cell: "
               f"{per_cell}")  # fmt: skip
+        if args.mca:
+            view = mca(loop["body"], args.mca_cpu or args.cpu)
+            busiest = ", ".join(f"{name} {value:.0f}" for value, name in view.busiest)
+            print(f"    llvm-mca ({args.mca_cpu or args.cpu}): {view.cycles:.1f} cycles an "
+                  f"iteration ({view.cycles / lanes:.1f} a cell), the ports' bound "
+                  f"{view.bound:.1f}; cycles it puts on port pressure {view.pressure:.0f} %, "
+                  f"on dependency chains {view.dependencies:.0f} % (they overlap); busiest "
+                  f"resources, cycles an iteration: {busiest}")  # fmt: skip
 
 
 if __name__ == "__main__":
