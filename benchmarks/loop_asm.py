@@ -22,9 +22,9 @@ installed by batball) on each loop for ``--mca-cpu`` (default ``--cpu``; an olde
 not know the newest names, and models some, as ``sapphirerapids``, on an older core's ports): the
 cycles an iteration it predicts in a steady state, the bound from its ports' throughput alone,
 the share of the predicted cycles it puts on port pressure and on chains of dependent
-instructions, and the busiest ports. A model, not a measurement: it knows no cache misses and
-a simplified out-of-order engine. A variant is ``path/to/file.py:name``, as for
-``element_loop_ab.py``. Usage:
+instructions, and the busiest resources (ports and units). A model, not a measurement: it
+knows no cache misses and a simplified out-of-order engine. A variant is
+``path/to/file.py:name``, as for ``element_loop_ab.py``. Usage:
 
     python benchmarks/loop_asm.py [--cpu znver3] [--vector-bits 256] [--mca] [VARIANT ...]
 """
@@ -85,6 +85,22 @@ def child_environment(cpu: str, vector_bits: int, cache: str) -> dict[str, str]:
     }
 
 
+def mca_tool(cpu: str) -> str:
+    """The path of llvm-mca, if it is on PATH and knows ``cpu``; else a one-line refusal
+    (checked before anything compiles)."""
+    tool = shutil.which("llvm-mca")
+    if tool is None:
+        raise SystemExit("--mca: llvm-mca is not on PATH (it comes with LLVM, as Debian's "
+                         "llvm package); run without --mca")  # fmt: skip
+    out = subprocess.run([tool, f"-mcpu={cpu}"], input="\tnop\n", capture_output=True,
+                         text=True, check=False)  # fmt: skip
+    if out.returncode != 0 or "not a recognized processor" in out.stderr:
+        raise SystemExit(f"--mca-cpu {cpu}: not a CPU this llvm-mca knows (`llvm-mca "
+                         "-mcpu=help`); name an older one of its family, as znver3 or "
+                         "skylake-avx512")  # fmt: skip
+    return tool
+
+
 class McaView(NamedTuple):
     """What llvm-mca predicts for a loop: cycles an iteration, the bound from its ports alone,
     the shares of the cycles it puts on port pressure and on dependency chains [%], and the
@@ -99,18 +115,14 @@ class McaView(NamedTuple):
 
 def mca(body: list[list[str]], cpu: str) -> McaView:
     """llvm-mca's view of the loop ``body`` (instructions as ``vector_loop`` gives them) on
-    ``cpu``: cycles an iteration, the ports' bound, the bottleneck shares and the busiest
-    resources (name, cycles an iteration)."""
-    tool = shutil.which("llvm-mca")
-    if tool is None:
-        raise SystemExit("--mca: llvm-mca is not on PATH (it comes with LLVM, as Debian's "
-                         "llvm package); run without --mca")  # fmt: skip
+    ``cpu`` (:class:`McaView`)."""
+    tool = mca_tool(cpu)
     text = "".join(f"\t{op}\t{' '.join(rest)}\n" for op, *rest in body)
     out = subprocess.run([tool, f"-mcpu={cpu}", f"-iterations={MCA_ITERATIONS}",
                           "-bottleneck-analysis"], input=text, capture_output=True, text=True,
                          check=False)  # fmt: skip
-    if out.returncode != 0 or "not a recognized processor" in out.stderr:
-        raise SystemExit(f"--mca-cpu {cpu}: llvm-mca failed or does not know the CPU "
+    if out.returncode != 0:
+        raise SystemExit(f"--mca: llvm-mca failed on the loop for {cpu} "
                          f"({(out.stderr.strip().splitlines() or ['no message'])[0]})")  # fmt: skip
     report = out.stdout
 
@@ -143,6 +155,8 @@ def main() -> None:
     parser.add_argument("--mca", action="store_true", help="llvm-mca's view of each loop")
     parser.add_argument("--mca-cpu", help="the CPU model llvm-mca takes (default --cpu)")
     args = parser.parse_args()
+    if args.mca:
+        mca_tool(args.mca_cpu or args.cpu)
     register, lanes = ("zmm", 16) if args.vector_bits == 512 else ("ymm", 8)
     code = CHILD.format(benchmarks=str(Path(__file__).resolve().parent), register=register,
                         lanes=lanes, variants=args.variants)  # fmt: skip
@@ -175,9 +189,9 @@ def main() -> None:
             busiest = ", ".join(f"{name} {value:.0f}" for value, name in view.busiest)
             print(f"    llvm-mca ({args.mca_cpu or args.cpu}): {view.cycles:.1f} cycles an "
                   f"iteration ({view.cycles / lanes:.1f} a cell), the ports' bound "
-                  f"{view.bound:.1f}; cycles it puts on port pressure {view.pressure:.0f} %, "
-                  f"on dependency chains {view.dependencies:.0f} % (they overlap); busiest "
-                  f"resources, cycles an iteration: {busiest}")  # fmt: skip
+                  f"{view.bound:.1f} cycles; cycles it puts on port pressure "
+                  f"{view.pressure:.0f} %, on dependency chains {view.dependencies:.0f} % "
+                  f"(they overlap); busiest resources, cycles an iteration: {busiest}")  # fmt: skip
 
 
 if __name__ == "__main__":
