@@ -113,10 +113,9 @@ class McaView(NamedTuple):
     busiest: list[tuple[float, str]]
 
 
-def mca(body: list[list[str]], cpu: str) -> McaView:
-    """llvm-mca's view of the loop ``body`` (instructions as ``vector_loop`` gives them) on
-    ``cpu`` (:class:`McaView`)."""
-    tool = mca_tool(cpu)
+def mca(tool: str, body: list[list[str]], cpu: str) -> McaView:
+    """llvm-mca's view (``tool``, from :func:`mca_tool`) of the loop ``body`` (instructions as
+    ``vector_loop`` gives them) on ``cpu`` (:class:`McaView`)."""
     text = "".join(f"\t{op}\t{' '.join(rest)}\n" for op, *rest in body)
     out = subprocess.run([tool, f"-mcpu={cpu}", f"-iterations={MCA_ITERATIONS}",
                           "-bottleneck-analysis"], input=text, capture_output=True, text=True,
@@ -155,8 +154,8 @@ def main() -> None:
     parser.add_argument("--mca", action="store_true", help="llvm-mca's view of each loop")
     parser.add_argument("--mca-cpu", help="the CPU model llvm-mca takes (default --cpu)")
     args = parser.parse_args()
-    if args.mca:
-        mca_tool(args.mca_cpu or args.cpu)
+    mca_cpu = args.mca_cpu or args.cpu
+    tool = mca_tool(mca_cpu) if args.mca else None
     register, lanes = ("zmm", 16) if args.vector_bits == 512 else ("ymm", 8)
     code = CHILD.format(benchmarks=str(Path(__file__).resolve().parent), register=register,
                         lanes=lanes, variants=args.variants)  # fmt: skip
@@ -184,10 +183,10 @@ def main() -> None:
                              if key not in ("instructions", "vector"))  # fmt: skip
         print(f"  {loop['loop']}: {mix['instructions']} instructions an iteration; a cell: "
               f"{per_cell}")  # fmt: skip
-        if args.mca:
-            view = mca(loop["body"], args.mca_cpu or args.cpu)
+        if tool is not None:
+            view = mca(tool, loop["body"], mca_cpu)
             busiest = ", ".join(f"{name} {value:.0f}" for value, name in view.busiest)
-            print(f"    llvm-mca ({args.mca_cpu or args.cpu}): {view.cycles:.1f} cycles an "
+            print(f"    llvm-mca ({mca_cpu}): {view.cycles:.1f} cycles an "
                   f"iteration ({view.cycles / lanes:.1f} a cell), the ports' bound "
                   f"{view.bound:.1f} cycles; cycles it puts on port pressure "
                   f"{view.pressure:.0f} %, on dependency chains {view.dependencies:.0f} % "
