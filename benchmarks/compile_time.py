@@ -22,6 +22,8 @@ import tempfile
 
 from yardstick import cpu_description
 
+from batball.numerics import INLINE_COPY_VARIABLE
+
 KERNELS = {
     "hex element loop (float32, IHQ 1)": """
 import numpy as np
@@ -58,9 +60,9 @@ def compile_seconds(code: str, numba_copy: bool) -> tuple[float, bool]:
     """(seconds, whether the one-graph copy was on) of one compile in a fresh interpreter."""
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "NUMBA_CACHE_DIR": cache, "NUMBA_NUM_THREADS": "1"}
-        env.pop("BATBALL_INLINE_COPY", None)
+        env.pop(INLINE_COPY_VARIABLE, None)
         if numba_copy:
-            env["BATBALL_INLINE_COPY"] = "numba"
+            env[INLINE_COPY_VARIABLE] = "numba"
         done = subprocess.run([sys.executable, "-c", TIMED.format(code=code)], env=env,
                               capture_output=True, text=True, check=True)  # fmt: skip
     out = json.loads(done.stdout.strip().splitlines()[-1])

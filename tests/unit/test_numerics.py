@@ -4,12 +4,14 @@ copying each inlined function as one graph (:func:`batball.numerics.share_inline
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
 from collections.abc import Callable
 
 import numpy as np
 import pytest
 
-from batball.numerics import wide_vectors
+from batball.numerics import INLINE_COPY_VARIABLE, wide_vectors
 
 
 @pytest.mark.parametrize(
@@ -72,7 +74,7 @@ def test_inlined_code_is_the_same_with_the_one_graph_copy(monkeypatch) -> None:
 
     from batball import numerics
 
-    if os.environ.get(numerics.INLINE_COPY_VARIABLE) == "numba":
+    if os.environ.get(INLINE_COPY_VARIABLE) == "numba":
         pytest.skip("BATBALL_INLINE_COPY=numba: Numba's own inliner copies asked for")
     assert numerics.INLINE_COPIES_SHARED  # on the Numba the project pins
     copies = []
@@ -103,27 +105,26 @@ def test_inlined_code_is_the_same_with_the_one_graph_copy(monkeypatch) -> None:
     assert _instructions(ours) == _instructions(numbas)
 
 
+def _import_numerics(value: str | None) -> subprocess.CompletedProcess:
+    """Import batball.numerics in a fresh interpreter with BATBALL_INLINE_COPY set to ``value``
+    (unset for None), printing whether the one-graph copy was applied."""
+    env = {k: v for k, v in os.environ.items() if k != INLINE_COPY_VARIABLE}
+    if value is not None:
+        env[INLINE_COPY_VARIABLE] = value
+    code = "import batball.numerics as n; print(n.INLINE_COPIES_SHARED)"
+    return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                          text=True, check=False)  # fmt: skip
+
+
 @pytest.mark.parametrize(("value", "shared"), [(None, True), ("numba", False)])
 def test_batball_inline_copy_numba_leaves_numbas_inliner(value: str | None, shared: bool) -> None:
-    import subprocess
-    import sys
-
-    env = {k: v for k, v in os.environ.items() if k != "BATBALL_INLINE_COPY"}
-    if value is not None:
-        env["BATBALL_INLINE_COPY"] = value
-    code = "import batball.numerics as n; print(n.INLINE_COPIES_SHARED)"
-    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                          text=True, check=True)  # fmt: skip
+    done = _import_numerics(value)
+    assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == str(shared)
 
 
 def test_another_batball_inline_copy_is_refused_by_name() -> None:
-    import subprocess
-    import sys
-
-    env = {**os.environ, "BATBALL_INLINE_COPY": "off"}
-    done = subprocess.run([sys.executable, "-c", "import batball.numerics"], env=env,
-                          capture_output=True, text=True)  # fmt: skip
+    done = _import_numerics("off")
     assert done.returncode != 0
     last = done.stderr.strip().splitlines()[-1]
-    assert "BATBALL_INLINE_COPY" in last and "'off'" in last and "graph or numba" in last
+    assert INLINE_COPY_VARIABLE in last and "'off'" in last and "graph or numba" in last
