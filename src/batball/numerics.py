@@ -118,7 +118,9 @@ def share_inline_copies() -> bool:
     :class:`_OneMemoCopy`, so each copy of the callee is one deep copy of all its blocks,
     sharing what the original shares (the scope once), and the second copy is made from the
     first as before. The machine code of every kernel is the same either way, instruction for
-    instruction (benchmarks/RESULTS.md, "Compile time"); only the time to make it changes.
+    instruction (benchmarks/RESULTS.md, "Compile time"); only the time to make it changes. The
+    swap of the module's ``copy`` is safe across threads because Numba compiles (and so inlines)
+    under its global compiler lock.
     """
     choice = os.environ.get(INLINE_COPY_VARIABLE, "graph")
     if choice not in ("graph", "numba"):
