@@ -117,8 +117,14 @@ def advance_rotations(rotations: np.ndarray, velocity: np.ndarray, dt: float) ->
             rotations[n, 2, j] = q20 * r0 + q21 * r1 + q22 * r2
 
 
-#: Cells per task of the parallel loops, and the width of the kernel's SIMD loops.
-CHUNK = 64
+#: Cells per task of the parallel loops, and the width of the kernel's SIMD loops: every column
+#: is computed, a chunk's columns past its last cell repeating it, so a kind whose cells do not
+#: fill whole chunks pays for empty columns. A bat's kinds are its rings (cells of one shape),
+#: so their sizes are multiples of the cells around: 48 on the default mesh, whose 20,928 cells
+#: then fill 436 chunks with no empty column, where chunks of 64 computed 22,464 columns (89 of
+#: its 97 kinds are single rings of 48). On the AVX-512 Xeon the full-size bat's force call took
+#: 0.84-0.94 of the time with 64 on two threads and the same on one (benchmarks/RESULTS.md).
+CHUNK = 48
 
 # A chunk's work array ``w`` holds one row per quantity and one column per cell (structure of
 # arrays, row r of column col at [r * CHUNK + col], the rows constant: LLVM then sees that the
@@ -131,7 +137,7 @@ CHUNK = 64
 # coordinate k at row W_X + 3 a + k and its total rotation's entry (i, j) at row W_R + 9 a +
 # 3 i + j; the centroid's coordinates at rows W_M..W_M + 2 (for :func:`corner_loop`). The
 # corners' reference positions are read from the chunk's constants where they are needed, not
-# copied here: at 88 rows the array (44 KiB) fits a 48 KiB first-level data cache
+# copied here: at 88 rows the array (33 KiB) fits a 48 KiB first-level data cache
 # (benchmarks/RESULTS.md).
 W_FRAME, W_COS, W_D, W_F, W_SINE2 = 0, 9, 13, 37, 61
 W_X, W_R, W_M, W_ROWS = 37, 49, 85, 88
