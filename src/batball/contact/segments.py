@@ -41,15 +41,17 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
-from batball.numerics import FASTMATH, threads_for_work
+from batball.numerics import FASTMATH
 
 #: Tolerance on |xi|, |eta| beyond 1 when a node is taken as over a segment.
 EDGE_TOLERANCE = 0.02
 #: Most candidate segments kept per slave node.
 MAX_CANDIDATES = 24
-#: Candidate checks of one force pass below which it runs on one thread (numerics; the search
-#: is one serial pass).
+#: Candidate checks of one force pass below which it runs on one thread
+#: (:func:`slave_penalty_forces_serial`; the search is one serial pass).
 PARALLEL_MIN_WORK = 200_000
+#: Slaves a task of :func:`slave_penalty_forces`' parallel loop.
+PENALTY_BLOCK = 64
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -222,12 +224,12 @@ PLAINLY_OFF = 3.0
 
 @nb.njit(inline="always", fastmath=FASTMATH)
 def segment_coordinates(
-    x: np.ndarray, c: np.ndarray, d: float, n0: float, n1: float, n2: float,
+    x: tuple[float, float, float], c: np.ndarray, d: float, n0: float, n1: float, n2: float,
     scratch: np.ndarray,
 ) -> tuple[float, float]:  # fmt: skip
-    """(xi, eta): bilinear coordinates of x's projection x - d n on the quad ``c`` (4, 3), by
-    three Newton steps in the tangent plane (one when the first lands plainly off the quad).
-    ``scratch`` (3, 3) is work space, so the contact loop allocates nothing."""
+    """(xi, eta): bilinear coordinates of the projection x - d n of x (a 3-tuple) on the quad
+    ``c`` (4, 3), by three Newton steps in the tangent plane (one when the first lands plainly
+    off the quad). ``scratch`` (3, 3) is work space, so the contact loop allocates nothing."""
     xi, eta = 0.0, 0.0
     g_xi, g_eta, res = scratch[0], scratch[1], scratch[2]
     for it in range(3):  # Newton on x - d n = sum N_a(xi, eta) x_a in the tangent plane
@@ -280,37 +282,24 @@ def smoothed_normal(node_normals: np.ndarray, corners: np.ndarray, xi: float, et
     return o0 * (side / norm), o1 * (side / norm), o2 * (side / norm)
 
 
-@nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
-def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thickness: np.ndarray,
-                         slave_stiffness: np.ndarray, segments: np.ndarray,
-                         segment_thickness: np.ndarray, two_sided: bool, depth: float,
-                         gap_offset: np.ndarray, candidates: np.ndarray,
-                         n_candidates: np.ndarray, planes: np.ndarray, node_normals: np.ndarray,
-                         slave_force: np.ndarray, contact_segment: np.ndarray,
-                         weights: np.ndarray, penetration: np.ndarray) -> None:  # fmt: skip
-    """Penalty force on each slave node from its deepest-penetrated candidate (module docs).
-
-    Args:
-        points: (n_points, 3) [m]; slave_nodes, slave_thickness [m], slave_stiffness [N/m]:
-            (n_slaves,); segments (n_segments, 4), segment_thickness (n_segments,) [m].
-        two_sided: shells (True) or outward-facing solid faces (False); depth: deepest d below
-            a solid face still taken as contact [m].
-        gap_offset: (n_slaves,) penetration subtracted from each slave's (initial overlaps) [m].
-        candidates, n_candidates: from :func:`search_candidates`.
-        planes: (n_segments, 6) centroid and unit normal of every candidate segment
-            (:func:`segment_planes`).
-        node_normals: (n_points, 3) the master's nodal normals (:func:`nodal_normals`) to push
-            along, interpolated at the contact point, instead of the segment's normal; (0, 3)
-            for the segment's normal.
-        slave_force: (n_slaves, 3) out [N]; contact_segment: (n_slaves,) out, -1 where free;
-            weights: (n_slaves, 4) out, N_a at the contact point; penetration: (n_slaves,) out [m].
-    """
-    for n in nb.prange(slave_nodes.shape[0]):
-        corners = np.empty((4, 3))
-        scratch = np.empty((3, 3))
-        x = points[slave_nodes[n]]
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _slave_penalties(first: int, stop: int, points: np.ndarray, slave_nodes: np.ndarray,
+                     slave_thickness: np.ndarray, slave_stiffness: np.ndarray,
+                     segments: np.ndarray, segment_thickness: np.ndarray, two_sided: bool,
+                     depth: float, gap_offset: np.ndarray, candidates: np.ndarray,
+                     n_candidates: np.ndarray, planes: np.ndarray, node_normals: np.ndarray,
+                     slave_force: np.ndarray, contact_segment: np.ndarray, weights: np.ndarray,
+                     penetration: np.ndarray) -> None:  # fmt: skip
+    """Slaves ``first`` to ``stop`` - 1 of :func:`slave_penalty_forces`, one after the other,
+    their scratch made once. A call, not inlined: inlined into a loop over the slaves, its
+    array arguments were reference-counted once a slave (190 ns a slave of the full-size BBS
+    test's bat contact, most of which have no candidate)."""
+    corners, scratch, bn = np.empty((4, 3)), np.empty((3, 3)), np.empty(3)
+    for n in range(first, stop):
+        node = slave_nodes[n]
+        x = (points[node, 0], points[node, 1], points[node, 2])  # a view would be refcounted
         best, best_p, bxi, beta, bd = -1, 0.0, 0.0, 0.0, 0.0
-        bn = np.zeros(3)
+        bn[0] = bn[1] = bn[2] = 0.0
         for c in range(n_candidates[n]):
             s = candidates[n, c]
             n0, n1, n2 = planes[s, 3], planes[s, 4], planes[s, 5]
@@ -351,6 +340,61 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
         w = bilinear_weights(xi, eta)
         for a in range(4):
             weights[n, a] = w[a]
+
+
+@nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
+def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thickness: np.ndarray,
+                         slave_stiffness: np.ndarray, segments: np.ndarray,
+                         segment_thickness: np.ndarray, two_sided: bool, depth: float,
+                         gap_offset: np.ndarray, candidates: np.ndarray,
+                         n_candidates: np.ndarray, planes: np.ndarray, node_normals: np.ndarray,
+                         slave_force: np.ndarray, contact_segment: np.ndarray,
+                         weights: np.ndarray, penetration: np.ndarray) -> None:  # fmt: skip
+    """Penalty force on each slave node from its deepest-penetrated candidate (module docs).
+
+    Args:
+        points: (n_points, 3) [m]; slave_nodes, slave_thickness [m], slave_stiffness [N/m]:
+            (n_slaves,); segments (n_segments, 4), segment_thickness (n_segments,) [m].
+        two_sided: shells (True) or outward-facing solid faces (False); depth: deepest d below
+            a solid face still taken as contact [m].
+        gap_offset: (n_slaves,) penetration subtracted from each slave's (initial overlaps) [m].
+        candidates, n_candidates: from :func:`search_candidates`.
+        planes: (n_segments, 6) centroid and unit normal of every candidate segment
+            (:func:`segment_planes`).
+        node_normals: (n_points, 3) the master's nodal normals (:func:`nodal_normals`) to push
+            along, interpolated at the contact point, instead of the segment's normal; (0, 3)
+            for the segment's normal.
+        slave_force: (n_slaves, 3) out [N]; contact_segment: (n_slaves,) out, -1 where free;
+            weights: (n_slaves, 4) out, N_a at the contact point; penetration: (n_slaves,) out [m].
+    """
+    n_slaves = slave_nodes.shape[0]
+    for block in nb.prange(-(-n_slaves // PENALTY_BLOCK)):
+        first = block * PENALTY_BLOCK
+        _slave_penalties(first, min(first + PENALTY_BLOCK, n_slaves), points, slave_nodes,
+                         slave_thickness, slave_stiffness, segments, segment_thickness,
+                         two_sided, depth, gap_offset, candidates, n_candidates, planes,
+                         node_normals, slave_force, contact_segment, weights,
+                         penetration)  # fmt: skip
+
+
+@nb.njit(cache=True, fastmath=FASTMATH)
+def slave_penalty_forces_serial(points: np.ndarray, slave_nodes: np.ndarray,
+                                slave_thickness: np.ndarray, slave_stiffness: np.ndarray,
+                                segments: np.ndarray, segment_thickness: np.ndarray,
+                                two_sided: bool, depth: float, gap_offset: np.ndarray,
+                                candidates: np.ndarray, n_candidates: np.ndarray,
+                                planes: np.ndarray, node_normals: np.ndarray,
+                                slave_force: np.ndarray, contact_segment: np.ndarray,
+                                weights: np.ndarray, penetration: np.ndarray) -> None:  # fmt: skip
+    """:func:`slave_penalty_forces` in one serial loop: the same arithmetic (the same
+    :func:`_slave_penalties`), slave by slave, so the same results. For a pass too small to
+    wake the other threads for (``PARALLEL_MIN_WORK``): choosing this kernel costs nothing,
+    where setting Numba's thread count to one and back around the parallel one cost 40-45 us
+    a cycle of the full-size BBS test on two threads (benchmarks/RESULTS.md)."""
+    _slave_penalties(0, slave_nodes.shape[0], points, slave_nodes, slave_thickness,
+                     slave_stiffness, segments, segment_thickness, two_sided, depth,
+                     gap_offset, candidates, n_candidates, planes, node_normals, slave_force,
+                     contact_segment, weights, penetration)  # fmt: skip
 
 
 @nb.njit(cache=True)
@@ -436,13 +480,13 @@ class SegmentContact:
             nodal_normals(self.segments, self.master_nodes, self.planes, self.node_normals)
         else:
             segment_planes(points, self.segments, self.active_segments, self.planes)
-        with threads_for_work(int(self.n_candidates.sum()), parallel_min_work=PARALLEL_MIN_WORK):
-            slave_penalty_forces(points, self.slave_nodes, self.slave_thickness,
-                                 self.slave_stiffness, self.segments, self.segment_thickness,
-                                 self.two_sided, self.depth, self.gap_offset, self.candidates,
-                                 self.n_candidates, self.planes, self.node_normals,
-                                 self.slave_force,
-                                 self.contact_segment, self.weights, self.penetration)  # fmt: skip
+        small = int(self.n_candidates.sum()) < PARALLEL_MIN_WORK  # not worth the threads
+        penalty = slave_penalty_forces_serial if small else slave_penalty_forces
+        penalty(points, self.slave_nodes, self.slave_thickness, self.slave_stiffness,
+                self.segments, self.segment_thickness, self.two_sided, self.depth,
+                self.gap_offset, self.candidates, self.n_candidates, self.planes,
+                self.node_normals, self.slave_force, self.contact_segment, self.weights,
+                self.penetration)  # fmt: skip
         return int(scatter_pair_forces(self.slave_nodes, self.segments, self.slave_force,
                                        self.contact_segment, self.weights, forces))  # fmt: skip
 

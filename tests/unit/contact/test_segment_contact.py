@@ -9,9 +9,12 @@ import pytest
 
 from batball.contact.segments import (
     MAX_CANDIDATES,
+    PENALTY_BLOCK,
     SegmentContact,
     search_candidates,
     segment_boxes,
+    slave_penalty_forces,
+    slave_penalty_forces_serial,
 )
 
 
@@ -163,3 +166,33 @@ def test_smoothed_normals_remove_the_flip_at_a_facet_corner(smooth: bool) -> Non
     else:
         assert sorted(np.abs(tilt)) == pytest.approx([180.0 / n_around] * 2, rel=1e-6)
         assert tilt[0] * tilt[1] < 0.0  # the push turns over as the node crosses the corner
+
+
+@pytest.mark.parametrize(("two_sided", "smooth"), [(True, False), (False, False), (True, True)])
+def test_serial_and_parallel_penalty_kernels_agree_bit_for_bit(two_sided: bool,
+                                                               smooth: bool) -> None:  # fmt: skip
+    """The pass a contact takes on one thread (small) and the one over the threads (large) are
+    one computation per slave: every output the same bits, whichever runs, over more slaves
+    than a parallel task holds and not a whole number of tasks."""
+    rng = np.random.default_rng(11)
+    sheet, cells = flat_sheet(10, 0.01)
+    sheet[:, 2] = 0.0005 * rng.standard_normal(len(sheet))
+    nodes = rng.uniform([0.0, 0.0, -0.0015], [0.1, 0.1, 0.0015], size=(3 * PENALTY_BLOCK + 5, 3))
+    points = np.vstack([sheet, nodes])
+    slaves = np.arange(len(sheet), len(points))
+    pair = SegmentContact("test", slaves, np.zeros(slaves.size), np.full(slaves.size, 1e6), cells,
+                          np.full(len(cells), 0.001), two_sided=two_sided, depth=0.004,
+                          margin=0.001, smooth=smooth)  # fmt: skip
+    pair.search(points)
+    pair.add_forces(points, np.zeros_like(points))  # the planes and nodal normals
+    outputs = []
+    for kernel in (slave_penalty_forces_serial, slave_penalty_forces):
+        out = (np.full((slaves.size, 3), np.nan), np.full(slaves.size, -7),
+               np.full((slaves.size, 4), np.nan), np.full(slaves.size, np.nan))  # fmt: skip
+        kernel(points, slaves, pair.slave_thickness, pair.slave_stiffness, cells,
+               pair.segment_thickness, two_sided, pair.depth, pair.gap_offset, pair.candidates,
+               pair.n_candidates, pair.planes, pair.node_normals, *out)  # fmt: skip
+        outputs.append(out)
+    assert np.count_nonzero(outputs[0][1] >= 0) > 20  # many slaves in contact
+    for serial, parallel in zip(*outputs, strict=True):
+        assert np.array_equal(serial, parallel)
