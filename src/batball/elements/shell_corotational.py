@@ -90,31 +90,38 @@ SERIES_ANGLE2 = 1e-4
 
 
 @nb.njit(parallel=True, cache=True, fastmath=FASTMATH)
-def advance_rotations(rotations: np.ndarray, velocity: np.ndarray, dt: float) -> None:
+def advance_rotations(rotations: np.ndarray, velocity: np.ndarray, dt: float,
+                      runs: tuple[np.ndarray, np.ndarray]) -> None:  # fmt: skip
     """R_a <- exp(dt omega_a) R_a for every node (Rodrigues), omega the global rotation rates
-    ``velocity[:, 3:6]`` [rad/s] over the last step ``dt`` [s]."""
-    for n in nb.prange(rotations.shape[0]):
-        p0, p1, p2 = dt * velocity[n, 3], dt * velocity[n, 4], dt * velocity[n, 5]
-        angle2 = p0 * p0 + p1 * p1 + p2 * p2
-        if angle2 == 0.0:
-            continue
-        if angle2 < SERIES_ANGLE2:
-            a = 1.0 - angle2 * (1.0 / 6.0 - angle2 * (1.0 / 120.0 - angle2 * (1.0 / 5040.0)))
-            b = 0.5 - angle2 * (1.0 / 24.0 - angle2 * (1.0 / 720.0 - angle2 * (1.0 / 40320.0)))
-        else:
-            angle = np.sqrt(angle2)
-            a, b = np.sin(angle) / angle, (1.0 - np.cos(angle)) / angle2
-        # Q = I + a [p]x + b [p]x^2, [p]x^2 = p p^T - |p|^2 I
-        q00, q11, q22 = 1.0 + b * (p0 * p0 - angle2), 1.0 + b * (p1 * p1 - angle2), \
-            1.0 + b * (p2 * p2 - angle2)
-        q01, q10 = b * p0 * p1 - a * p2, b * p0 * p1 + a * p2
-        q02, q20 = b * p0 * p2 + a * p1, b * p0 * p2 - a * p1
-        q12, q21 = b * p1 * p2 - a * p0, b * p1 * p2 + a * p0
-        for j in range(3):
-            r0, r1, r2 = rotations[n, 0, j], rotations[n, 1, j], rotations[n, 2, j]
-            rotations[n, 0, j] = q00 * r0 + q01 * r1 + q02 * r2
-            rotations[n, 1, j] = q10 * r0 + q11 * r1 + q12 * r2
-            rotations[n, 2, j] = q20 * r0 + q21 * r1 + q22 * r2
+    ``velocity[:, 3:6]`` [rad/s] over the last step ``dt`` [s]. The nodes go in ``runs``
+    (order, start; :func:`rotation_runs`): run r updates ``order[start[r]:start[r + 1]]``, on
+    the thread that then runs the force kernel's run r, which reads them (each node's update
+    is its own: the same bits in any order)."""
+    order, start = runs
+    for run in nb.prange(start.shape[0] - 1):
+        for i in range(start[run], start[run + 1]):
+            n = order[i]
+            p0, p1, p2 = dt * velocity[n, 3], dt * velocity[n, 4], dt * velocity[n, 5]
+            angle2 = p0 * p0 + p1 * p1 + p2 * p2
+            if angle2 == 0.0:
+                continue
+            if angle2 < SERIES_ANGLE2:
+                a = 1.0 - angle2 * (1.0 / 6.0 - angle2 * (1.0 / 120.0 - angle2 * (1.0 / 5040.0)))
+                b = 0.5 - angle2 * (1.0 / 24.0 - angle2 * (1.0 / 720.0 - angle2 * (1.0 / 40320.0)))
+            else:
+                angle = np.sqrt(angle2)
+                a, b = np.sin(angle) / angle, (1.0 - np.cos(angle)) / angle2
+            # Q = I + a [p]x + b [p]x^2, [p]x^2 = p p^T - |p|^2 I
+            q00, q11, q22 = 1.0 + b * (p0 * p0 - angle2), 1.0 + b * (p1 * p1 - angle2), \
+                1.0 + b * (p2 * p2 - angle2)
+            q01, q10 = b * p0 * p1 - a * p2, b * p0 * p1 + a * p2
+            q02, q20 = b * p0 * p2 + a * p1, b * p0 * p2 - a * p1
+            q12, q21 = b * p1 * p2 - a * p0, b * p1 * p2 + a * p0
+            for j in range(3):
+                r0, r1, r2 = rotations[n, 0, j], rotations[n, 1, j], rotations[n, 2, j]
+                rotations[n, 0, j] = q00 * r0 + q01 * r1 + q02 * r2
+                rotations[n, 1, j] = q10 * r0 + q11 * r1 + q12 * r2
+                rotations[n, 2, j] = q20 * r0 + q21 * r1 + q22 * r2
 
 
 #: Cells per task of the parallel loops, and the width of the kernel's SIMD loops: every column
@@ -445,6 +452,23 @@ def corner_kinds(cells: np.ndarray, chunk_start: np.ndarray, corners: tuple,
     return np.where(shared, SHARED, np.where(first, FIRST, ADD)).astype(np.int8).ravel()
 
 
+def rotation_runs(first_chunk: np.ndarray, n_chunks: int,
+                  n_runs: int) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """The nodes by the run of the chunk of their first corner (``first_chunk``, from
+    :func:`node_corners`; a node of no cell with run 0) when ``n_chunks`` chunks run in
+    ``n_runs`` runs (:func:`run_count`): (order, (n_nodes,); start, (runs + 1,)), run r's nodes
+    at ``order[start[r]:start[r + 1]]`` in increasing order. :func:`advance_rotations` updates
+    each run's nodes on the thread that runs its chunks: with the nodes split in halves instead,
+    nearly every rotation the kernel read had been written by the other core (the default bat's
+    chunks go by kind, not along the bat)."""
+    runs = run_count.py_func(n_runs, n_chunks)  # the same rules, in Python
+    bounds = np.array([run_start.py_func(r, runs, n_chunks) for r in range(runs + 1)])
+    run = np.searchsorted(bounds, np.maximum(first_chunk, 0), side="right") - 1
+    order = np.argsort(run, kind="stable")
+    start = np.searchsorted(run[order], np.arange(runs + 1))
+    return order.astype(np.int64), start.astype(np.int64)
+
+
 #: Columns :func:`scatter_chunk` turns into records at once (CHUNK is a multiple of it).
 RECORD_COLUMNS = 4
 
@@ -703,6 +727,7 @@ class CorotationalShellForces:
         # the undeformed frames and the corners' reference positions, in the kernel's layout
         self.constants = chunk_constants(self.frames0, reference[order], self.chunk_start)
         self._kinds: dict[int, np.ndarray] = {}  # corner_kinds by the number of runs asked for
+        self._runs: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # rotation_runs, alike
 
     def corner_kinds(self, n_runs: int) -> np.ndarray:
         """:func:`corner_kinds` of these cells for ``n_runs`` runs, taken once."""
@@ -710,13 +735,18 @@ class CorotationalShellForces:
             self._kinds[n_runs] = corner_kinds(self.cells, self.chunk_start, self.corners, n_runs)
         return self._kinds[n_runs]
 
+    def rotation_runs(self, n_runs: int) -> tuple[np.ndarray, np.ndarray]:
+        """:func:`rotation_runs` of these nodes for ``n_runs`` runs, taken once."""
+        if n_runs not in self._runs:
+            self._runs[n_runs] = rotation_runs(self.corners[4], self.chunk_kind.size, n_runs)
+        return self._runs[n_runs]
+
     def __call__(self, points: np.ndarray, velocity: np.ndarray, dt: float,
                  out: np.ndarray) -> None:  # fmt: skip
         """Forces on the nodes, (n, 6), into ``out`` from x^n (n, 3) and v^(n-1/2) (n, 6) over
         the last step ``dt`` [s] (which first advances the nodes' rotations)."""
-        rotations = self.state.history
-        advance_rotations(rotations, velocity, dt)
-        n_runs = nb.get_num_threads()
+        rotations, n_runs = self.state.history, nb.get_num_threads()
+        advance_rotations(rotations, velocity, dt, self.rotation_runs(n_runs))
         cell_and_node_forces(points, self.cells, rotations, self.constants, self.product,
                              (self.chunk_start, self.chunk_kind), self.corners,
                              self.corner_kinds(n_runs), self.shared, out, n_runs)  # fmt: skip

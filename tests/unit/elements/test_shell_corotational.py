@@ -44,11 +44,13 @@ from batball.elements.shell_corotational import (
     W_F,
     W_ROWS,
     CorotationalShellForces,
+    advance_rotations,
     cell_and_node_forces,
     critical_step,
     distinct_cells,
     dof,
     local_product,
+    rotation_runs,
     rotation_vectors,
 )
 from batball.elements.shell_stiffness import ShellSection, assemble_shell_stiffness, shell_section
@@ -238,3 +240,33 @@ def test_a_rotation_just_below_the_series_threshold_is_scaled_once(below: float)
     expected = np.arcsin(np.sqrt(sine2)) * axis
     got = np.array([w[(W_D + dof(0, 3 + k)) * CHUNK] for k in range(3)])
     np.testing.assert_allclose(got, expected, rtol=1e-12)
+
+
+@pytest.mark.parametrize("runs", [1, 2, 3, 7])
+def test_each_run_turns_the_nodes_of_its_first_corners(bat, runs: int) -> None:  # noqa: ANN001
+    """rotation_runs: every node once, in the run that holds the chunk of the first cell (in
+    the kernel's cell order) that has it, by a search over the cells; a node of no cell in run
+    0. And the rotations advanced run by run are those of one run (each node's own update)."""
+    mesh, section = bat
+    points = np.vstack([mesh.points, [[1.0, 1.0, 1.0]]])  # and a node of no cell
+    shells = CorotationalShellForces(points, mesh.cells, section)
+    n_chunks = shells.chunk_kind.size
+    order, start = rotation_runs(shells.corners[4], n_chunks, runs)
+    assert np.array_equal(np.sort(order), np.arange(points.shape[0]))
+    expected = np.zeros(points.shape[0], dtype=np.int64)
+    taken = min(runs, n_chunks)
+    bounds = [r * n_chunks // taken for r in range(taken + 1)]
+    for node in range(mesh.n_points):
+        first_cell = np.flatnonzero((shells.cells == node).any(axis=1))[0]
+        chunk = np.searchsorted(shells.chunk_start, first_cell, side="right") - 1
+        expected[node] = np.searchsorted(bounds, chunk, side="right") - 1
+    got = np.empty_like(expected)
+    for r in range(taken):
+        got[order[start[r] : start[r + 1]]] = r
+    assert np.array_equal(got, expected) and start[-1] == points.shape[0]
+    velocity = field(points.shape[0])
+    turned = [shells.state.history.copy() for _ in range(2)]
+    advance_rotations(turned[0], velocity, 0.01, (order, start))  # series and trig
+    advance_rotations(turned[1], velocity, 0.01, rotation_runs(shells.corners[4], n_chunks, 1))
+    np.testing.assert_array_equal(turned[0], turned[1])
+    assert np.abs(turned[0] - shells.state.history).max() > 1e-6  # they did turn
