@@ -130,7 +130,7 @@ def advance_rotations(rotations: np.ndarray, velocity: np.ndarray, dt: float,
 #: so their sizes are multiples of the cells around: 48 on the default mesh, whose 20,928 cells
 #: then fill 436 chunks with no empty column, where chunks of 64 computed 22,464 columns (89 of
 #: its 97 kinds are single rings of 48). On the AVX-512 Xeon the full-size bat's force call took
-#: 0.84-0.94 of the time with 64 on two threads and the same on one (benchmarks/RESULTS.md).
+#: 0.84-0.94 of the time with 64 on two threads, on one within the host's noise (RESULTS.md).
 CHUNK = 48
 
 # A chunk's work array ``w`` holds one row per quantity and one column per cell (structure of
