@@ -463,7 +463,7 @@ def rotation_runs(first_chunk: np.ndarray, n_chunks: int,
     chunks go by kind, not along the bat)."""
     runs = run_count.py_func(n_runs, n_chunks)  # the same rules, in Python
     bounds = np.array([run_start.py_func(r, runs, n_chunks) for r in range(runs + 1)])
-    run = np.searchsorted(bounds, np.maximum(first_chunk, 0), side="right") - 1
+    run = np.clip(np.searchsorted(bounds, first_chunk, side="right") - 1, 0, runs - 1)
     order = np.argsort(run, kind="stable")
     start = np.searchsorted(run[order], np.arange(runs + 1))
     return order.astype(np.int64), start.astype(np.int64)
