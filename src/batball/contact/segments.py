@@ -48,7 +48,7 @@ EDGE_TOLERANCE = 0.02
 #: Most candidate segments kept per slave node.
 MAX_CANDIDATES = 24
 #: Candidate checks of one force pass below which it runs on one thread
-#: (:func:`slave_penalty_forces_serial`; the search is one serial pass).
+#: (:func:`slave_penalties`; the search is one serial pass).
 PARALLEL_MIN_WORK = 200_000
 #: Slaves a task of :func:`slave_penalty_forces`' parallel loop.
 PENALTY_BLOCK = 64
@@ -283,16 +283,19 @@ def smoothed_normal(node_normals: np.ndarray, corners: np.ndarray, xi: float, et
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _slave_penalties(first: int, stop: int, points: np.ndarray, slave_nodes: np.ndarray,
+def slave_penalties(first: int, stop: int, points: np.ndarray, slave_nodes: np.ndarray,
                      slave_thickness: np.ndarray, slave_stiffness: np.ndarray,
                      segments: np.ndarray, segment_thickness: np.ndarray, two_sided: bool,
                      depth: float, gap_offset: np.ndarray, candidates: np.ndarray,
                      n_candidates: np.ndarray, planes: np.ndarray, node_normals: np.ndarray,
                      slave_force: np.ndarray, contact_segment: np.ndarray, weights: np.ndarray,
                      penetration: np.ndarray) -> None:  # fmt: skip
-    """Slaves ``first`` to ``stop`` - 1 of :func:`slave_penalty_forces`, one after the other,
-    their scratch made once. A call, not inlined: inlined into a loop over the slaves, its
-    array arguments were reference-counted once a slave (190 ns a slave of the full-size BBS
+    """Slaves ``first`` to ``stop`` - 1 of :func:`slave_penalty_forces`, one after the other on
+    this thread, their scratch made once: the parallel kernel's tasks, and the whole pass where
+    it is too small to wake the other threads for (``PARALLEL_MIN_WORK``; setting Numba's
+    thread count to one and back around the parallel kernel instead cost 40-45 us a cycle of
+    the full-size BBS test on two threads). A call, not inlined: inlined into a loop over the
+    slaves, its array arguments were reference-counted once a slave (190 ns a slave of that
     test's bat contact, most of which have no candidate)."""
     corners, scratch, bn = np.empty((4, 3)), np.empty((3, 3)), np.empty(3)
     for n in range(first, stop):
@@ -370,31 +373,11 @@ def slave_penalty_forces(points: np.ndarray, slave_nodes: np.ndarray, slave_thic
     n_slaves = slave_nodes.shape[0]
     for block in nb.prange(-(-n_slaves // PENALTY_BLOCK)):
         first = block * PENALTY_BLOCK
-        _slave_penalties(first, min(first + PENALTY_BLOCK, n_slaves), points, slave_nodes,
+        slave_penalties(first, min(first + PENALTY_BLOCK, n_slaves), points, slave_nodes,
                          slave_thickness, slave_stiffness, segments, segment_thickness,
                          two_sided, depth, gap_offset, candidates, n_candidates, planes,
                          node_normals, slave_force, contact_segment, weights,
                          penetration)  # fmt: skip
-
-
-@nb.njit(cache=True, fastmath=FASTMATH)
-def slave_penalty_forces_serial(points: np.ndarray, slave_nodes: np.ndarray,
-                                slave_thickness: np.ndarray, slave_stiffness: np.ndarray,
-                                segments: np.ndarray, segment_thickness: np.ndarray,
-                                two_sided: bool, depth: float, gap_offset: np.ndarray,
-                                candidates: np.ndarray, n_candidates: np.ndarray,
-                                planes: np.ndarray, node_normals: np.ndarray,
-                                slave_force: np.ndarray, contact_segment: np.ndarray,
-                                weights: np.ndarray, penetration: np.ndarray) -> None:  # fmt: skip
-    """:func:`slave_penalty_forces` in one serial loop: the same arithmetic (the same
-    :func:`_slave_penalties`), slave by slave, so the same results. For a pass too small to
-    wake the other threads for (``PARALLEL_MIN_WORK``): choosing this kernel costs nothing,
-    where setting Numba's thread count to one and back around the parallel one cost 40-45 us
-    a cycle of the full-size BBS test on two threads (benchmarks/RESULTS.md)."""
-    _slave_penalties(0, slave_nodes.shape[0], points, slave_nodes, slave_thickness,
-                     slave_stiffness, segments, segment_thickness, two_sided, depth,
-                     gap_offset, candidates, n_candidates, planes, node_normals, slave_force,
-                     contact_segment, weights, penetration)  # fmt: skip
 
 
 @nb.njit(cache=True)
@@ -480,13 +463,15 @@ class SegmentContact:
             nodal_normals(self.segments, self.master_nodes, self.planes, self.node_normals)
         else:
             segment_planes(points, self.segments, self.active_segments, self.planes)
-        small = int(self.n_candidates.sum()) < PARALLEL_MIN_WORK  # not worth the threads
-        penalty = slave_penalty_forces_serial if small else slave_penalty_forces
-        penalty(points, self.slave_nodes, self.slave_thickness, self.slave_stiffness,
-                self.segments, self.segment_thickness, self.two_sided, self.depth,
-                self.gap_offset, self.candidates, self.n_candidates, self.planes,
-                self.node_normals, self.slave_force, self.contact_segment, self.weights,
-                self.penetration)  # fmt: skip
+        arguments = (points, self.slave_nodes, self.slave_thickness, self.slave_stiffness,
+                     self.segments, self.segment_thickness, self.two_sided, self.depth,
+                     self.gap_offset, self.candidates, self.n_candidates, self.planes,
+                     self.node_normals, self.slave_force, self.contact_segment, self.weights,
+                     self.penetration)  # fmt: skip
+        if int(self.n_candidates.sum()) < PARALLEL_MIN_WORK:  # not worth the threads
+            slave_penalties(0, self.slave_nodes.shape[0], *arguments)
+        else:
+            slave_penalty_forces(*arguments)
         return int(scatter_pair_forces(self.slave_nodes, self.segments, self.slave_force,
                                        self.contact_segment, self.weights, forces))  # fmt: skip
 

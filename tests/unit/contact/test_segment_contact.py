@@ -13,8 +13,8 @@ from batball.contact.segments import (
     SegmentContact,
     search_candidates,
     segment_boxes,
+    slave_penalties,
     slave_penalty_forces,
-    slave_penalty_forces_serial,
 )
 
 
@@ -186,12 +186,17 @@ def test_serial_and_parallel_penalty_kernels_agree_bit_for_bit(two_sided: bool,
     pair.search(points)
     pair.add_forces(points, np.zeros_like(points))  # the planes and nodal normals
     outputs = []
-    for kernel in (slave_penalty_forces_serial, slave_penalty_forces):
+    for parallel in (False, True):
         out = (np.full((slaves.size, 3), np.nan), np.full(slaves.size, -7),
                np.full((slaves.size, 4), np.nan), np.full(slaves.size, np.nan))  # fmt: skip
-        kernel(points, slaves, pair.slave_thickness, pair.slave_stiffness, cells,
-               pair.segment_thickness, two_sided, pair.depth, pair.gap_offset, pair.candidates,
-               pair.n_candidates, pair.planes, pair.node_normals, *out)  # fmt: skip
+        arguments = (points, slaves, pair.slave_thickness, pair.slave_stiffness, cells,
+                     pair.segment_thickness, two_sided, pair.depth, pair.gap_offset,
+                     pair.candidates, pair.n_candidates, pair.planes, pair.node_normals,
+                     *out)  # fmt: skip
+        if parallel:
+            slave_penalty_forces(*arguments)
+        else:
+            slave_penalties(0, slaves.size, *arguments)
         outputs.append(out)
     assert np.count_nonzero(outputs[0][1] >= 0) > 20  # many slaves in contact
     for serial, parallel in zip(*outputs, strict=True):
