@@ -118,3 +118,23 @@ def test_bad_ball_file_names_the_field(material_lines, field, tmp_path, capsys) 
     assert code == 2
     assert err.startswith(f"batball: error: {field}:")
     assert len(err.strip().splitlines()) == 1
+
+
+def test_building_the_parser_leaves_the_optimiser_unimported() -> None:
+    """Every command builds the whole parser; the calibration's options must not import its
+    optimiser (SciPy's least squares, about 0.4 s of every command's start). In a fresh
+    interpreter, as a user's command starts."""
+    import subprocess
+    import sys
+
+    script = (
+        "import sys\n"
+        "from batball.cli import build_parser\n"
+        "build_parser()\n"
+        "print(sorted(m for m in ('scipy.optimize', 'batball.calibrate.optimise') "
+        "if m in sys.modules))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          check=False)  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
