@@ -433,6 +433,13 @@ def run_start(run: int, runs: int, n_chunks: int) -> int:
     return run * n_chunks // runs
 
 
+def run_bounds(n_runs: int, n_chunks: int) -> np.ndarray:
+    """The runs' first chunks and then ``n_chunks``, (runs + 1,), for ``n_runs`` asked for:
+    :func:`run_count` and :func:`run_start`, the kernel's own rules, in Python."""
+    runs = run_count.py_func(n_runs, n_chunks)
+    return np.array([run_start.py_func(r, runs, n_chunks) for r in range(runs + 1)])
+
+
 def corner_kinds(cells: np.ndarray, chunk_start: np.ndarray, corners: tuple,
                  n_runs: int) -> np.ndarray:  # fmt: skip
     """Each corner's kind (ADD, FIRST or SHARED), corner a of cell c at 4 c + a (int8), when the
@@ -441,8 +448,7 @@ def corner_kinds(cells: np.ndarray, chunk_start: np.ndarray, corners: tuple,
     :func:`node_corners`: the chunks of the node's first and last corner), else FIRST for the
     node's first corner, else ADD. Taken once a number of runs, not in every call."""
     n_chunks = chunk_start.size - 1
-    runs = run_count.py_func(n_runs, n_chunks)  # the same rules, in Python
-    bounds = np.array([run_start.py_func(r, runs, n_chunks) for r in range(runs + 1)])
+    bounds = run_bounds(n_runs, n_chunks)
     run = np.searchsorted(bounds, np.arange(n_chunks), side="right") - 1
     cell_run = np.repeat(run, np.diff(chunk_start))
     begin, end = bounds[cell_run][:, None], bounds[cell_run + 1][:, None]
@@ -461,8 +467,8 @@ def rotation_runs(first_chunk: np.ndarray, n_chunks: int,
     each run's nodes on the thread that runs its chunks: with the nodes split in halves instead,
     nearly every rotation the kernel read had been written by the other core (the default bat's
     chunks go by kind, not along the bat)."""
-    runs = run_count.py_func(n_runs, n_chunks)  # the same rules, in Python
-    bounds = np.array([run_start.py_func(r, runs, n_chunks) for r in range(runs + 1)])
+    bounds = run_bounds(n_runs, n_chunks)
+    runs = bounds.size - 1
     run = np.clip(np.searchsorted(bounds, first_chunk, side="right") - 1, 0, runs - 1)
     order = np.argsort(run, kind="stable")
     start = np.searchsorted(run[order], np.arange(runs + 1))
