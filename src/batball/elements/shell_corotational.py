@@ -298,9 +298,25 @@ def corner_deformation(frame: tuple, m: Vec3, frame0: tuple, constants: np.ndarr
     w[(W_COS + a) * CHUNK + col] = 0.5 * (dot3(r0, f0) + dot3(r1, f1) + dot3(r2, f2) - 1.0)
 
 
-#: Below this squared sine (and at a positive cosine) a rotation's angle / sine is its series,
-#: asin(s) / s to s^6 (relative error below 1e-12); above it, atan2 (:func:`rotation_vectors`).
-SERIES_SINE2 = 1e-4
+#: Below this squared sine (and at a positive cosine, a rotation under 5.7 degrees) a rotation's
+#: angle / sine is its series, asin(s) / s to s^14: the first term left out, 6435/557056 s^16,
+#: is below 1.2e-18 of the sum, under double precision's rounding; above it, atan2
+#: (:func:`rotation_vectors`), a scalar call. In a full-size BBS impact up to a quarter of the
+#: corners turn by more than 0.57 degrees (sine^2 1e-4), none by more than 3.2 (3e-3), and they
+#: lie in the barrel, whose chunks one thread holds (benchmarks/RESULTS.md).
+SERIES_SINE2 = 1e-2
+
+
+@nb.njit(inline="always", fastmath=FASTMATH)
+def angle_over_sine(sine2: float) -> float:
+    """asin(s) / s to s^14 (Horner) from s^2: the sum over n of (2n)! / (4^n n!^2 (2n + 1))
+    s^(2n) (:data:`SERIES_SINE2`)."""
+    tail = 231.0 / 13312.0 + sine2 * (143.0 / 10240.0)
+    tail = 63.0 / 2816.0 + sine2 * tail
+    tail = 35.0 / 1152.0 + sine2 * tail
+    tail = 5.0 / 112.0 + sine2 * tail
+    tail = 3.0 / 40.0 + sine2 * tail
+    return 1.0 + sine2 * (1.0 / 6.0 + sine2 * tail)
 
 
 @nb.njit(inline="always", fastmath=FASTMATH, error_model="numpy")
@@ -313,7 +329,7 @@ def rotation_vectors(w: np.ndarray, n: int) -> None:
         for a in range(4):
             s = load_dofs(w, W_D, a, 3, col)
             sine2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2]
-            series = 1.0 + sine2 * (1.0 / 6.0 + sine2 * (3.0 / 40.0 + sine2 * (5.0 / 112.0)))
+            series = angle_over_sine(sine2)
             small = sine2 < SERIES_SINE2 and w[(W_COS + a) * CHUNK + col] > 0.0
             factor = series if small else 1.0
             w[(W_SINE2 + a) * CHUNK + col] = sine2  # the test below is this one's
