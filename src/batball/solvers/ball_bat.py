@@ -265,6 +265,21 @@ def take_slot_forces(nodal_forces: np.ndarray, forces: np.ndarray) -> None:
             forces[n, i] = total
 
 
+@nb.njit(cache=True)
+def smallest_step(cell_dt: np.ndarray) -> tuple[float, int]:
+    """The smallest of the cells' stable steps [s] and -1, or a step that is not positive (or
+    NaN) and the first cell that has one. One pass: NumPy's test and minimum were two, and on two
+    threads each read the steps the other thread's half of the hex kernel had just written
+    (about 25 us each in a full-size BBS cycle)."""
+    smallest = np.inf
+    for e in range(cell_dt.shape[0]):
+        step = cell_dt[e]
+        if not step > 0.0:
+            return step, e
+        smallest = min(smallest, step)
+    return smallest, -1
+
+
 @dataclass
 class BallState:
     """The ball's element histories and per-cycle work arrays."""
@@ -565,6 +580,40 @@ class CoupledResult:
         return self.history[:, HISTORY_COLUMNS.index(name)]
 
 
+@nb.njit(cache=True)
+def close_cycle(energies: np.ndarray, increments: np.ndarray, ball: np.ndarray, bat: np.ndarray,
+                rigid: bool, kinetic0: float, time: float, ball_mass: float, pivot_inertia: float,
+                ball_touching: int, insert_touching: int, row: np.ndarray) -> float:  # fmt: skip
+    """A coupled cycle's bookkeeping once ball and bat have moved; returns the energy balance
+    error [J]. ``energies`` (6,) [J] takes the ball's element work of the cycle (``increments``,
+    (n_slots, 3), summed slot by slot), the bat's internal and damping work (``bat``, the sums
+    of :func:`advance_bat`; not for a ``rigid`` bat) and the contact work of both sides
+    (``ball``, :func:`advance_ball`'s); ``row`` gets the history row (HISTORY_COLUMNS) at
+    ``time`` [s]. The sums in the order NumPy's reductions took them: the same bits."""
+    for c in range(3):
+        work = increments[0, c]
+        for slot in range(1, increments.shape[0]):
+            work += increments[slot, c]
+        energies[c] += work
+    if not rigid:
+        energies[3] -= bat[0]
+        energies[5] -= bat[4]
+    energies[4] -= ball[0] + bat[1]
+    kinetic = ball[1] + bat[2]
+    stored = 0.0
+    for c in range(energies.shape[0]):
+        stored += energies[c]
+    balance = kinetic + stored - kinetic0
+    row[0], row[1] = time, ball[6]
+    for i in range(3):
+        row[2 + i] = ball[2 + i] / ball_mass
+    row[5], row[6], row[7] = bat[3] / pivot_inertia, bat[3] + ball[5], kinetic
+    for c in range(energies.shape[0]):
+        row[8 + c] = energies[c]
+    row[14], row[15], row[16] = balance, ball_touching, insert_touching
+    return balance
+
+
 @nb.njit(cache=True, fastmath=FASTMATH)
 def kinetic_energy(mass: np.ndarray, velocity: np.ndarray) -> float:
     """The kinetic energy [J], sum m v^2 / 2 over the dofs of (n, k) ``mass`` [kg; kg m^2 for a
@@ -703,14 +752,13 @@ class CoupledSolver:
         clock = time.perf_counter()
         ball_internal_forces(m.ball, self.ball_state, self.ball_points, self.ball_velocity,
                              self.dt, self.ball_forces)  # fmt: skip
-        cell_dt = self.ball_state.cell_dt
-        if not np.all(cell_dt > 0):
-            bad = int(np.flatnonzero(~(cell_dt > 0))[0])
+        smallest, bad = smallest_step(self.ball_state.cell_dt)
+        if bad >= 0:
             raise SimulationError(f"ball element {bad} inverted at t = {self.time * 1e3:.4f} ms "
                                   f"(step {self.step})")  # fmt: skip
         self.timed("ball_forces", clock)
         self.bat_element_forces()
-        ball_dt = self.controls.time_step_scale * float(cell_dt.min())
+        ball_dt = self.controls.time_step_scale * smallest
         return min(ball_dt, m.bat.stable_step)
 
     def bat_element_forces(self) -> None:
@@ -785,7 +833,6 @@ class CoupledSolver:
         dt_new = self.element_forces()
         ball_touching, insert_touching = self.contact()
         clock = time.perf_counter()
-        self.energies[:3] += self.ball_state.energy_increments.sum(axis=0)
         half = 0.5 * (dt_old + dt_new)
         ball, bat = self.ball_sums, self.bat_sums
         advance_ball(self.ball_forces, self.contact_forces[n_bat:], m.ball.mass,
@@ -795,10 +842,6 @@ class CoupledSolver:
                     self.bat_points, self.bat_moving, m.bat.band, m.bat.pivot,
                     self.band_inertia, self.omega, 0.0 if m.bat.rigid else c.bat_damping,
                     self.damping_forces, half, dt_old, dt_new, bat)  # fmt: skip
-        if not m.bat.rigid:
-            self.energies[3] -= bat[0]
-            self.energies[5] -= bat[4]
-        self.energies[4] -= ball[0] + bat[1]
         self.write_row(row, ball_touching, insert_touching)
         self.time += dt_new
         self.dt = dt_new
@@ -807,13 +850,12 @@ class CoupledSolver:
         return ball_touching > 0
 
     def write_row(self, row: np.ndarray, ball_touching: int, insert_touching: int) -> None:
-        """The history row of this cycle (HISTORY_COLUMNS) from the sums of the update."""
-        ball, bat = self.ball_sums, self.bat_sums
-        kinetic = ball[1] + bat[2]
-        balance = kinetic + self.energies.sum() - self.kinetic0
-        row[:] = (self.time, ball[6], *(ball[2:5] / self.ball_total_mass),
-                  bat[3] / self.pivot_inertia, bat[3] + ball[5], kinetic, *self.energies,
-                  balance, ball_touching, insert_touching)  # fmt: skip
+        """The energies and the history row of this cycle (HISTORY_COLUMNS) from the sums of
+        the update (:func:`close_cycle`); a SimulationError if the balance has run away."""
+        balance = close_cycle(self.energies, self.ball_state.energy_increments, self.ball_sums,
+                              self.bat_sums, self.model.bat.rigid, self.kinetic0, self.time,
+                              self.ball_total_mass, self.pivot_inertia, ball_touching,
+                              insert_touching, row)  # fmt: skip
         if (
             not np.isfinite(balance)
             or abs(balance) > self.controls.max_energy_error * self.kinetic0

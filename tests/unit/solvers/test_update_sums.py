@@ -4,7 +4,9 @@ and the bookkeeping sums are the NumPy sums of the same terms (to round-off: the
 are added in another order, 1e-12 relative allowed against about 1e-14 seen). Likewise the
 ball's slot sum (take_slot_forces: the NumPy sum exactly, slots cleared) and the insert fit's
 relaxation step (central_difference: the formula, then the velocities scaled), and the impact
-solver's update (explicit_kernels.assemble_and_update)."""
+solver's update (explicit_kernels.assemble_and_update). The coupled cycle's step (smallest_step:
+NumPy's minimum, or the first step that is not positive) and its bookkeeping (close_cycle: the
+energies and the history row as NumPy's sums of the same terms give them, the same bits)."""
 
 from __future__ import annotations
 
@@ -12,7 +14,15 @@ import numba
 import numpy as np
 import pytest
 
-from batball.solvers.ball_bat import advance_ball, advance_bat, central_difference, take_slot_forces
+from batball.solvers.ball_bat import (
+    HISTORY_COLUMNS,
+    advance_ball,
+    advance_bat,
+    central_difference,
+    close_cycle,
+    smallest_step,
+    take_slot_forces,
+)
 from batball.solvers.explicit_kernels import assemble_and_update, sum_blocks
 
 N = 5000
@@ -180,3 +190,40 @@ def test_the_impact_update_with_fewer_sum_blocks_than_slots(threads, n: int) -> 
         results.append((points, velocities, sums))
     for a, b in zip(results[0], results[-1], strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_the_smallest_step_or_the_first_cell_that_has_none() -> None:
+    steps = np.random.default_rng(11).uniform(1e-8, 1e-7, 1000)
+    assert smallest_step(steps) == (steps.min(), -1)
+    for bad in (0.0, -1e-9, np.nan):
+        broken = steps.copy()
+        broken[[7, 500]] = bad
+        step, cell = smallest_step(broken)
+        assert cell == 7 and (step == bad or np.isnan(bad) and np.isnan(step))
+
+
+@pytest.mark.parametrize("rigid", [False, True])
+@pytest.mark.parametrize("n_slots", [1, 2, 5])
+def test_the_cycle_bookkeeping_is_numpys(rigid: bool, n_slots: int) -> None:
+    rng = np.random.default_rng(n_slots)
+    scale = 10.0 ** rng.integers(-6, 3, size=6)
+    energies, increments = rng.normal(size=6) * scale, rng.normal(size=(n_slots, 3))
+    ball, bat = rng.normal(size=7), rng.normal(size=5)
+    kinetic0, time, mass, inertia = 39.8, 1.23e-4, 0.19, 0.031
+    row = np.zeros(len(HISTORY_COLUMNS))
+    got = energies.copy()
+    balance = close_cycle(got, increments, ball, bat, rigid, kinetic0, time, mass, inertia, 12,
+                          340, row)  # fmt: skip
+    expected = energies.copy()
+    expected[:3] += increments.sum(axis=0)
+    if not rigid:
+        expected[3] -= bat[0]
+        expected[5] -= bat[4]
+    expected[4] -= ball[0] + bat[1]
+    kinetic = ball[1] + bat[2]
+    expected_balance = kinetic + expected.sum() - kinetic0
+    expected_row = (time, ball[6], *(ball[2:5] / mass), bat[3] / inertia, bat[3] + ball[5],
+                    kinetic, *expected, expected_balance, 12, 340)  # fmt: skip
+    np.testing.assert_array_equal(got, expected)
+    assert balance == expected_balance
+    np.testing.assert_array_equal(row, expected_row)
