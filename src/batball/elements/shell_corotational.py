@@ -303,7 +303,7 @@ def corner_deformation(frame: tuple, m: Vec3, frame0: tuple, constants: np.ndarr
 #: is below 1.2e-18 of the sum, under double precision's rounding; above it, atan2
 #: (:func:`rotation_vectors`), a scalar call. In a full-size BBS impact up to a quarter of the
 #: corners turn by more than 0.57 degrees (sine^2 1e-4), none by more than 3.2 (3e-3), and they
-#: lie in the barrel, whose chunks one thread holds (benchmarks/RESULTS.md).
+#: lie in the chunks of one thread's run (benchmarks/RESULTS.md).
 SERIES_SINE2 = 1e-2
 
 
