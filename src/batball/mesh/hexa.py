@@ -77,6 +77,11 @@ def _all_faces(cells: np.ndarray) -> np.ndarray:
 def boundary_faces(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Faces used by exactly one cell, oriented out of that cell.
 
+    A face is identified by its sorted node ids. Where the mesh's node ids fit, the four are
+    packed into one integer (base: the largest id + 1) and the keys counted as integers, which
+    sorts a single column instead of rows (on the 12,096-hex ball, 72,576 faces: about a tenth
+    of the time); otherwise the sorted rows are counted as rows. Both count the same faces.
+
     Args:
         cells: hex8 connectivity, shape (n_cells, 8).
 
@@ -86,7 +91,12 @@ def boundary_faces(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """
     faces = _all_faces(np.asarray(cells, dtype=np.int64))
     keys = np.sort(faces, axis=1)
-    _, inverse, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    base = int(faces.max()) + 1 if faces.size else 1
+    if base**4 <= np.iinfo(np.int64).max:
+        packed = ((keys[:, 0] * base + keys[:, 1]) * base + keys[:, 2]) * base + keys[:, 3]
+        _, inverse, counts = np.unique(packed, return_inverse=True, return_counts=True)
+    else:
+        _, inverse, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
     is_boundary = counts[inverse.ravel()] == 1
     owner = np.nonzero(is_boundary)[0] // HEX_FACES.shape[0]
     return np.ascontiguousarray(faces[is_boundary]), owner.astype(np.int64)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections import Counter
+
 import numpy as np
 import pytest
 
@@ -12,7 +14,7 @@ from batball.mesh import (
     scaled_jacobians,
     surface_point_ids,
 )
-from batball.mesh.hexa import face_area_vectors
+from batball.mesh.hexa import HEX_FACES, face_area_vectors
 
 UNIT_CUBE = np.array(
     [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
@@ -103,6 +105,22 @@ def test_boundary_faces_of_2x2x2_block_are_24_and_outward() -> None:
     assert np.all(np.einsum("ij,ij->i", area_vectors, away) > 0.0)
     # outward unit-cube faces of the block point along +-x, +-y, +-z four times each
     assert np.all(np.abs(area_vectors).max(axis=1) == pytest.approx(1.0))
+
+
+@pytest.mark.parametrize("offset", [0, 100_000])
+def test_boundary_faces_match_a_count_of_each_faces_cells(offset: int) -> None:
+    """Against a dictionary count of every face's node set, with node ids that fit the packed
+    integer key (offset 0) and ids too large for it (offset 100,000: the rows are counted)."""
+    _, cells = block_mesh(3)
+    cells = cells + offset
+    uses = Counter(frozenset(face) for cell in cells.tolist() for face in
+                   (tuple(cell[i] for i in corners) for corners in HEX_FACES))  # fmt: skip
+    expected = [(c, f) for c, cell in enumerate(cells.tolist()) for f, corners in
+                enumerate(HEX_FACES) if uses[frozenset(cell[i] for i in corners)] == 1]  # fmt: skip
+    faces, owner = boundary_faces(cells)
+    assert len(expected) == 6 * 9
+    np.testing.assert_array_equal(owner, [c for c, _ in expected])
+    np.testing.assert_array_equal(faces, [cells[c, HEX_FACES[f]] for c, f in expected])
 
 
 def test_surface_point_ids_of_3x3x3_block_exclude_the_8_inner_nodes() -> None:
