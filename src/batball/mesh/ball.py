@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from batball.mesh.hexa import unique_rows
 from batball.mesh.mesh import Mesh
 
 # Shape constants, chosen by a sweep over divisions 4 and 12 for the largest minimum scaled
@@ -74,8 +75,7 @@ def _merge_blocks(
         and the cell indices of each block.
     """
     flat = np.concatenate([k.reshape(-1, 4) for k in key_blocks])
-    keys, inverse = np.unique(flat, axis=0, return_inverse=True)
-    inverse = inverse.ravel()
+    keys, inverse, _ = unique_rows(flat)
     cell_blocks, block_cell_ids, node_start, cell_start = [], [], 0, 0
     for block in key_blocks:  # seven blocks, not a loop over elements
         n_block = block.shape[0] * block.shape[1] * block.shape[2]
@@ -161,8 +161,7 @@ def _number_nodes(
     the cells in slabs, each half's nodes are nearly one run, overlapping only near the middle
     where the update's two threads meet."""
     line, place = _x_lines(keys, divisions)
-    _, line_id = np.unique(line, axis=0, return_inverse=True)
-    line_id = line_id.ravel()
+    _, line_id, _ = unique_rows(line)
     first_use = np.full(line_id.max() + 1, len(cells))
     users = np.broadcast_to(np.arange(len(cells))[:, None], cells.shape)
     np.minimum.at(first_use, line_id[cells], users)

@@ -74,13 +74,36 @@ def _all_faces(cells: np.ndarray) -> np.ndarray:
     return cells[:, HEX_FACES].reshape(-1, 4)
 
 
-def boundary_faces(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Faces used by exactly one cell, oriented out of that cell.
+def unique_rows(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``np.unique(rows, axis=0, return_inverse=True, return_counts=True)`` of integer rows
+    (n, k): the distinct rows in lexicographic order, each row's index among them (n,) and
+    each distinct row's count.
 
-    A face is identified by its sorted node ids. Where the mesh's node ids fit, the four are
-    packed into one integer (base: the largest id + 1) and the keys counted as integers, which
-    sorts a single column instead of rows (on the 12,096-hex ball, 72,576 faces: about a tenth
-    of the time); otherwise the sorted rows are counted as rows. Both count the same faces.
+    Where the rows' ranges fit, each row is packed into one int64 (a mixed-radix number, the
+    first column the most significant digit, each column less its smallest value), which sorts
+    in the same order as the rows and as one column: NumPy sorts rows through a structured
+    view, about six times slower (boundary faces of the 12,096-hex ball: 52 against 8 ms).
+    Otherwise the rows are sorted as rows. Both give the same arrays."""
+    rows = np.asarray(rows)
+    if rows.ndim != 2 or rows.dtype.kind not in "iu" or rows.shape[0] == 0:
+        raise ValueError(f"unique_rows takes a non-empty 2-D integer array, not {rows.dtype} "
+                         f"{rows.shape}")  # fmt: skip
+    low = rows.min(axis=0).astype(np.int64)
+    digits = rows.max(axis=0).astype(np.int64) - low + 1
+    if float(np.prod(digits.astype(np.float64))) < 2.0**62:
+        packed = np.zeros(rows.shape[0], dtype=np.int64)
+        for column in range(rows.shape[1]):
+            packed = packed * digits[column] + (rows[:, column].astype(np.int64) - low[column])
+        _, first, inverse, counts = np.unique(packed, return_index=True, return_inverse=True,
+                                              return_counts=True)  # fmt: skip
+        return rows[first], inverse.ravel(), counts
+    distinct, inverse, counts = np.unique(rows, axis=0, return_inverse=True, return_counts=True)
+    return distinct, inverse.ravel(), counts
+
+
+def boundary_faces(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Faces used by exactly one cell, oriented out of that cell (a face is its sorted node
+    ids, counted by :func:`unique_rows`).
 
     Args:
         cells: hex8 connectivity, shape (n_cells, 8).
@@ -90,14 +113,8 @@ def boundary_faces(cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         right-hand-rule normal; owner, shape (n_faces,) int64, the cell each face belongs to.
     """
     faces = _all_faces(np.asarray(cells, dtype=np.int64))
-    keys = np.sort(faces, axis=1)
-    base = int(faces.max()) + 1 if faces.size else 1
-    if base**4 <= np.iinfo(np.int64).max:
-        packed = ((keys[:, 0] * base + keys[:, 1]) * base + keys[:, 2]) * base + keys[:, 3]
-        _, inverse, counts = np.unique(packed, return_inverse=True, return_counts=True)
-    else:
-        _, inverse, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
-    is_boundary = counts[inverse.ravel()] == 1
+    _, inverse, counts = unique_rows(np.sort(faces, axis=1))
+    is_boundary = counts[inverse] == 1
     owner = np.nonzero(is_boundary)[0] // HEX_FACES.shape[0]
     return np.ascontiguousarray(faces[is_boundary]), owner.astype(np.int64)
 

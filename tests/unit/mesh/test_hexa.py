@@ -14,7 +14,7 @@ from batball.mesh import (
     scaled_jacobians,
     surface_point_ids,
 )
-from batball.mesh.hexa import HEX_FACES, face_area_vectors
+from batball.mesh.hexa import HEX_FACES, face_area_vectors, unique_rows
 
 UNIT_CUBE = np.array(
     [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
@@ -105,6 +105,29 @@ def test_boundary_faces_of_2x2x2_block_are_24_and_outward() -> None:
     assert np.all(np.einsum("ij,ij->i", area_vectors, away) > 0.0)
     # outward unit-cube faces of the block point along +-x, +-y, +-z four times each
     assert np.all(np.abs(area_vectors).max(axis=1) == pytest.approx(1.0))
+
+
+@pytest.mark.parametrize(
+    ("low", "high", "columns", "dtype"),
+    [(-3, 4, 4, np.int64), (0, 50, 3, np.int32), (0, 7, 2, np.uint16),
+     (-(2**40), 2**40, 3, np.int64)],  # the last too wide to pack: rows sorted as rows
+)  # fmt: skip
+def test_unique_rows_is_numpys_unique_over_rows(low: int, high: int, columns: int,
+                                                dtype: type) -> None:  # fmt: skip
+    rows = np.random.default_rng(3).integers(low, high, (500, columns)).astype(dtype)
+    distinct, inverse, counts = unique_rows(rows)
+    expected = np.unique(rows, axis=0, return_inverse=True, return_counts=True)
+    np.testing.assert_array_equal(distinct, expected[0])
+    assert distinct.dtype == rows.dtype
+    np.testing.assert_array_equal(inverse, expected[1].ravel())
+    np.testing.assert_array_equal(counts, expected[2])
+
+
+def test_unique_rows_refuses_what_it_cannot_pack_or_sort() -> None:
+    with pytest.raises(ValueError, match="2-D integer"):
+        unique_rows(np.zeros((3, 2)))
+    with pytest.raises(ValueError, match="2-D integer"):
+        unique_rows(np.zeros((0, 2), dtype=np.int64))
 
 
 @pytest.mark.parametrize("offset", [0, 100_000])
