@@ -8,9 +8,13 @@ model and vector width, and the hex kernel's GFLOP/s from the flops it does per 
 (counted from the code, ``flop_counts.py``) as a fraction of that yardstick. Usage:
 
     python benchmarks/bench_ccor.py [--divisions 12] [--repeats 3] [--precision single]
+        [--rounds 1]
 
 ``--precision both`` alternates single and double element arithmetic (the A/B of
-docs/notes/precision.md).
+docs/notes/precision.md). ``--rounds R`` runs the thread counts R times in turn, each round a
+new process per thread count, and ends with each round's solver time on one thread over that
+on the others: a shared host's speed drifts by a tenth within minutes, so the ratio of two
+runs minutes apart says little; the ratios of runs seconds apart, over rounds, say more.
 """
 
 from __future__ import annotations
@@ -53,10 +57,11 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--precision", choices=("single", "double", "both"), default="single")
     parser.add_argument("--threads", type=int, nargs="*", help="thread counts (default 1 and all)")
+    parser.add_argument("--rounds", type=int, default=1, help="times to run the thread counts in "
+                        "turn (default 1)")  # fmt: skip
     args = parser.parse_args()
     import numba
-    from flop_counts import hex8_flops
-    from yardstick import cpu_description, gemm_gflops, yardstick_label
+    from yardstick import cpu_description, yardstick_label
 
     cpu = cpu_description()
     print(f"{cpu['model']}, {cpu['vector_bits']}-bit vectors, {cpu['logical_cpus']} logical "
@@ -64,21 +69,46 @@ def main() -> None:
     precisions = ("single", "double") if args.precision == "both" else (args.precision,)
     runs = [(t, p) for t in args.threads or sorted({1, numba.config.NUMBA_NUM_THREADS})
             for p in precisions]  # fmt: skip
-    for threads, precision in runs:
-        r = measure(threads, args.divisions, args.repeats, precision)
-        wall, solver = statistics.median(r["walls"]), statistics.median(r["solver"])
-        rate = r["n_cells"] * r["n_steps"] / solver
-        gemm = gemm_gflops(threads)["sgemm" if precision == "single" else "dgemm"]
-        print(f"{precision}, threads {threads}: {r['n_cells']} hexes x {r['n_steps']} cycles; "
-              f"wall {wall:.2f} s (median of {args.repeats}), solver {solver:.2f} s, "
-              f"{rate / 1e6:.2f} M element-cycles/s; CCOR {r['ccor']:.4f}")  # fmt: skip
-        name = "SGEMM" if precision == "single" else "DGEMM"
-        flops = hex8_flops(single=precision == "single")  # type 1: MAT_006, one Prony term
-        achieved = rate * flops / 1e9  # the solver's time: the hexes and everything else
-        print(f"  yardstick: {name} {gemm:.1f} GFLOP/s on {threads} thread(s); "
-              f"{rate / gemm:.3g} element-cycles/s per GFLOP/s; {flops} flops an element-cycle "
-              f"-> {achieved:.1f} GFLOP/s, {achieved / gemm:.1%} of {name}")  # fmt: skip
-        print("  phases (s, last run):", {k: round(v, 2) for k, v in r["phases"].items()})
+    solver_seconds: dict[tuple[int, str], list[float]] = {run: [] for run in runs}
+    for round_ in range(args.rounds):
+        for threads, precision in runs:
+            if args.rounds > 1:
+                print(f"round {round_ + 1} of {args.rounds}:", end=" ")
+            solver = report(threads, precision, args.divisions, args.repeats)
+            solver_seconds[threads, precision].append(solver)
+    for precision in precisions:
+        counts = [t for t, p in runs if p == precision and t != 1]
+        if args.rounds < 2 or (1, precision) not in solver_seconds:
+            continue
+        one = solver_seconds[1, precision]
+        for threads in counts:
+            ratios = [a / b for a, b in zip(one, solver_seconds[threads, precision], strict=True)]
+            print(f"{precision}: one thread's solver time over {threads} threads', round by "
+                  f"round: {', '.join(f'{r:.2f}' for r in ratios)}; median "
+                  f"{statistics.median(ratios):.2f}")  # fmt: skip
+
+
+def report(threads: int, precision: str, divisions: int, repeats: int) -> float:
+    """Run the test on ``threads`` threads in a new process and print its figures; returns the
+    solver's median seconds."""
+    from flop_counts import hex8_flops
+    from yardstick import gemm_gflops
+
+    r = measure(threads, divisions, repeats, precision)
+    wall, solver = statistics.median(r["walls"]), statistics.median(r["solver"])
+    rate = r["n_cells"] * r["n_steps"] / solver
+    gemm = gemm_gflops(threads)["sgemm" if precision == "single" else "dgemm"]
+    print(f"{precision}, threads {threads}: {r['n_cells']} hexes x {r['n_steps']} cycles; "
+          f"wall {wall:.2f} s (median of {repeats}), solver {solver:.2f} s, "
+          f"{rate / 1e6:.2f} M element-cycles/s; CCOR {r['ccor']:.4f}")  # fmt: skip
+    name = "SGEMM" if precision == "single" else "DGEMM"
+    flops = hex8_flops(single=precision == "single")  # type 1: MAT_006, one Prony term
+    achieved = rate * flops / 1e9  # the solver's time: the hexes and everything else
+    print(f"  yardstick: {name} {gemm:.1f} GFLOP/s on {threads} thread(s); "
+          f"{rate / gemm:.3g} element-cycles/s per GFLOP/s; {flops} flops an element-cycle "
+          f"-> {achieved:.1f} GFLOP/s, {achieved / gemm:.1%} of {name}")  # fmt: skip
+    print("  phases (s, last run):", {k: round(v, 2) for k, v in r["phases"].items()})
+    return solver
 
 
 if __name__ == "__main__":
