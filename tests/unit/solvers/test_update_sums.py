@@ -3,7 +3,8 @@ the motion is the central-difference formula node by node, the same bits on any 
 and the bookkeeping sums are the NumPy sums of the same terms (to round-off: the threads' parts
 are added in another order, 1e-12 relative allowed against about 1e-14 seen). Likewise the
 ball's slot sum (take_slot_forces: the NumPy sum exactly, slots cleared) and the insert fit's
-relaxation step (central_difference: the formula, then the velocities scaled), and the impact
+relaxation step (central_difference: the formula, then the velocities scaled, and each node's
+m v^2; add_and_clear: the contact forces added, the held nodes' zeroed), and the impact
 solver's update (explicit_kernels.assemble_and_update). The coupled cycle's step (smallest_step:
 NumPy's minimum, or the first step that is not positive) and its bookkeeping (close_cycle: the
 energies and the history row as NumPy's sums of the same terms give them, the same bits)."""
@@ -16,10 +17,12 @@ import pytest
 
 from batball.solvers.ball_bat import (
     HISTORY_COLUMNS,
+    add_and_clear,
     advance_ball,
     advance_bat,
     central_difference,
     close_cycle,
+    kinetic_energy,
     smallest_step,
     take_slot_forces,
 )
@@ -114,10 +117,31 @@ def test_the_relaxation_step_is_the_formula_on_any_thread_count(threads) -> None
     x[moving] += DT_NEW * v[moving, :3]
     for count in threads:
         numba.set_num_threads(count)
-        velocity, points = v0.copy(), x0.copy()
-        central_difference(f, m, velocity, H, DT_NEW, points, moving, factor)
+        velocity, points, node_kinetic = v0.copy(), x0.copy(), np.zeros(N)
+        central_difference(f, m, velocity, H, DT_NEW, points, moving, factor, node_kinetic)
         np.testing.assert_allclose(velocity, factor * v, rtol=1e-14, atol=0)
         np.testing.assert_allclose(points, x, rtol=1e-14, atol=1e-300)
+        np.testing.assert_allclose(node_kinetic, (m * (factor * v) ** 2).sum(axis=1), rtol=1e-13)
+        assert kinetic_energy(node_kinetic) == pytest.approx(0.5 * np.sum(m * (factor * v) ** 2),
+                                                             rel=1e-12)  # fmt: skip
+
+
+def test_the_fit_forces_take_the_contact_and_drop_the_held_nodes_on_any_thread_count(
+    threads,  # noqa: ANN001
+) -> None:
+    rng = np.random.default_rng(7)
+    f0, contact0 = rng.normal(size=(N, 6)), rng.normal(size=(N + 7, 3))
+    held = np.array([3, 1200, N - 1])
+    expected = f0.copy()
+    expected[:, :3] += contact0[:N]
+    expected[held] = 0.0
+    for count in threads:
+        numba.set_num_threads(count)
+        forces, contact = f0.copy(), contact0.copy()
+        add_and_clear(forces, contact, held)
+        np.testing.assert_array_equal(forces, expected)
+        assert not contact[:N].any()
+        np.testing.assert_array_equal(contact[N:], contact0[N:])  # rows past the bat's kept
 
 
 def slot_problem(rng: np.random.Generator, ranges: np.ndarray,
