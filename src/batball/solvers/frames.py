@@ -58,35 +58,51 @@ BALL_CELL_FIELDS = ("stress", "von_mises", "pressure", "volumetric_strain")
 def stress_invariants(stress: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The von Mises stress sqrt(3/2 s:s) and the pressure -tr(sigma)/3 of Cauchy stresses
     ``stress`` (n, 6) in Voigt order xx, yy, zz, xy, yz, zx (tensor shear components) [Pa];
-    each (n,) [Pa].
+    each (n,) [Pa]. One compiled pass, each cell's operations in the order NumPy's whole-array
+    form took them (xx + yy then + zz; no fast-math), so the same bits."""
+    stress = np.ascontiguousarray(stress, dtype=np.float64)
+    von_mises, pressure = np.empty(stress.shape[0]), np.empty(stress.shape[0])
+    _stress_invariants(stress, von_mises, pressure)
+    return von_mises, pressure
 
-    Worked on the six components as contiguous rows: NumPy's reductions along a short last axis
-    (``mean(axis=1)`` over three columns) cost several times the arithmetic. The sums are taken
-    in the same order as such a reduction, xx + yy then + zz."""
-    xx, yy, zz, xy, yz, zx = np.array(np.asarray(stress, dtype=np.float64).T)
-    pressure = -((xx + yy + zz) / 3.0)
-    normal = (xx + pressure) ** 2 + (yy + pressure) ** 2 + (zz + pressure) ** 2
-    squared = normal + 2.0 * (xy**2 + yz**2 + zx**2)
-    return np.sqrt(1.5 * squared), pressure
+
+@nb.njit(cache=True)
+def _stress_invariants(stress: np.ndarray, von_mises: np.ndarray, pressure: np.ndarray) -> None:
+    """:func:`stress_invariants` into ``von_mises`` and ``pressure``."""
+    for c in range(stress.shape[0]):
+        xx, yy, zz = stress[c, 0], stress[c, 1], stress[c, 2]
+        xy, yz, zx = stress[c, 3], stress[c, 4], stress[c, 5]
+        p = -((xx + yy + zz) / 3.0)
+        a, b, d = xx + p, yy + p, zz + p
+        normal = a * a + b * b + d * d
+        squared = normal + 2.0 * (xy * xy + yz * yz + zx * zx)
+        von_mises[c] = np.sqrt(1.5 * squared)
+        pressure[c] = p
 
 
 def hex_cell_stress(history: np.ndarray, n_cells: int) -> np.ndarray:
     """The Cauchy stress (n_cells, 6) [Pa] of the viscoelastic hex kernel's block ``history``
     (:func:`batball.elements.hex8_block.pack_history`'s layout): s_inf + the Prony terms' h
-    - p I (module docs). Reads only the stress rows, adds them in the block layout and turns
-    the sum cell by cell once."""
-    n_terms = history_terms(history)
-    rows = history.reshape(history.shape[0], -1, BLOCK)
+    - p I (module docs), in double. Reads only the stress rows, in one compiled pass."""
+    stress = np.empty((n_cells, 6))
+    _hex_cell_stress(history, history_terms(history), stress)
+    return stress
 
-    def block_rows(first: int, count: int) -> np.ndarray:
-        """Rows first..first+count-1 of every block, (n_blocks, count, BLOCK), in double."""
-        return rows[:, first : first + count, :].astype(np.float64)
 
-    stress = block_rows(H_S, 6) + block_rows(H_H, 6)
-    for term in range(n_terms - 1):
-        stress += block_rows(H_PRONY + 6 * term, 6)
-    stress[:, :3, :] -= block_rows(H_P, 1)
-    return np.ascontiguousarray(stress.transpose(0, 2, 1).reshape(-1, 6)[:n_cells])
+@nb.njit(cache=True)
+def _hex_cell_stress(history: np.ndarray, n_terms: int, stress: np.ndarray) -> None:
+    """:func:`hex_cell_stress` into ``stress``: row r of cell e of block b at
+    ``history[b, r * BLOCK + e]``; s_inf + h, then each further term's h, then - p on the
+    normal components, each in double."""
+    for c in range(stress.shape[0]):
+        b, e = c // BLOCK, c % BLOCK
+        p = np.float64(history[b, H_P * BLOCK + e])
+        for k in range(6):
+            s_inf, h = history[b, (H_S + k) * BLOCK + e], history[b, (H_H + k) * BLOCK + e]
+            v = np.float64(s_inf) + np.float64(h)
+            for t in range(n_terms - 1):
+                v += np.float64(history[b, (H_PRONY + 6 * t + k) * BLOCK + e])
+            stress[c, k] = v - p if k < 3 else v
 
 
 def foam_cell_stress(foam_history: np.ndarray) -> np.ndarray:
