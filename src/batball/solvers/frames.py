@@ -58,8 +58,8 @@ BALL_CELL_FIELDS = ("stress", "von_mises", "pressure", "volumetric_strain")
 def stress_invariants(stress: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The von Mises stress sqrt(3/2 s:s) and the pressure -tr(sigma)/3 of Cauchy stresses
     ``stress`` (n, 6) in Voigt order xx, yy, zz, xy, yz, zx (tensor shear components) [Pa];
-    each (n,) [Pa]. One compiled pass, each cell's operations in the order NumPy's whole-array
-    form took them (xx + yy then + zz; no fast-math), so the same bits."""
+    each (n,) [Pa]. One compiled pass without fast-math: each operation rounds as NumPy's
+    whole-array arithmetic would, in the order written (xx + yy, then + zz)."""
     stress = np.ascontiguousarray(stress, dtype=np.float64)
     von_mises, pressure = np.empty(stress.shape[0]), np.empty(stress.shape[0])
     _stress_invariants(stress, von_mises, pressure)

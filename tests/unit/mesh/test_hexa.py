@@ -123,11 +123,13 @@ def test_unique_rows_is_numpys_unique_over_rows(low: int, high: int, columns: in
     np.testing.assert_array_equal(counts, expected[2])
 
 
-def test_unique_rows_refuses_what_it_cannot_pack_or_sort() -> None:
+def test_unique_rows_refuses_what_is_not_integer_rows_and_takes_none() -> None:
     with pytest.raises(ValueError, match="2-D integer"):
         unique_rows(np.zeros((3, 2)))
     with pytest.raises(ValueError, match="2-D integer"):
-        unique_rows(np.zeros((0, 2), dtype=np.int64))
+        unique_rows(np.zeros(4, dtype=np.int64))
+    distinct, inverse, counts = unique_rows(np.zeros((0, 2), dtype=np.int64))
+    assert distinct.shape == (0, 2) and inverse.shape == (0,) and counts.shape == (0,)
 
 
 @pytest.mark.parametrize("offset", [0, 100_000])
