@@ -268,9 +268,9 @@ def take_slot_forces(nodal_forces: np.ndarray, forces: np.ndarray) -> None:
 @nb.njit(cache=True)
 def smallest_step(cell_dt: np.ndarray) -> tuple[float, int]:
     """The smallest of the cells' stable steps [s] and -1, or a step that is not positive (or
-    NaN) and the first cell that has one. One pass: NumPy's test and minimum were two, and on two
-    threads each read the steps the other thread's half of the hex kernel had just written
-    (about 25 us each in a full-size BBS cycle)."""
+    NaN) and the first cell that has one, in one pass over the steps: on two threads the other
+    thread's half of the hex kernel has just written half of them, and a NumPy test and minimum
+    would read them twice (about 25 us each in a full-size BBS cycle)."""
     smallest = np.inf
     for e in range(cell_dt.shape[0]):
         step = cell_dt[e]
@@ -596,7 +596,8 @@ def close_cycle(energies: np.ndarray, increments: np.ndarray, ball: np.ndarray, 
     (n_slots, 3), summed slot by slot), the bat's internal and damping work (``bat``, the sums
     of :func:`advance_bat`; not for a ``rigid`` bat) and the contact work of both sides
     (``ball``, :func:`advance_ball`'s); ``row`` gets the history row (HISTORY_COLUMNS) at
-    ``time`` [s]. The sums in the order NumPy's reductions took them: the same bits."""
+    ``time`` [s]. Each sum runs in index order, as NumPy's reductions over these short arrays
+    add, so the row is bit for bit the NumPy form of the same sums (tested)."""
     for c in range(3):
         work = increments[0, c]
         for slot in range(1, increments.shape[0]):
